@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Installs every build and test dependency of sodt from Debian 12's archive and
+# fetches the MeshLab 2020.09 plugin SDK (src/common + vcglib) from Debian's
+# `meshlab` source package into .deps/ (git-ignored). Safe to run repeatedly.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+DEPS_DIR="${SODT_DEPS_DIR:-$ROOT/.deps}"
+SDK_LINK="$DEPS_DIR/meshlab-src"
+
+PACKAGES=(
+  meshlab xvfb xauth
+  cmake make g++ pkg-config
+  qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
+  libgtest-dev libbenchmark-dev dpkg-dev
+)
+
+if [ "$(id -u)" -eq 0 ]; then
+  SUDO=()
+elif command -v sudo >/dev/null 2>&1; then
+  SUDO=(sudo)
+else
+  echo "install-deps.sh: run as root or install sudo" >&2
+  exit 1
+fi
+
+log() { printf '[install-deps] %s\n' "$*"; }
+
+# apt-get source needs a deb-src line for bookworm. Add one in a file of our
+# own instead of editing the system's sources when none is configured.
+has_deb_src() {
+  grep -rqsE '^[[:space:]]*deb-src[[:space:]].*bookworm' /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null && return 0
+  for f in /etc/apt/sources.list.d/*.sources; do
+    [ -e "$f" ] || continue
+    # deb822: a stanza whose Types contain deb-src and whose Suites contain bookworm
+    awk 'BEGIN{RS="";FS="\n"} /Types:[^\n]*deb-src/ && /Suites:[^\n]*bookworm/ {found=1} END{exit !found}' "$f" && return 0
+  done
+  return 1
+}
+
+need_update=0
+if ! has_deb_src; then
+  log "no deb-src for bookworm configured: adding /etc/apt/sources.list.d/sodt-deb-src.sources"
+  printf '%s\n' \
+    'Types: deb-src' \
+    'URIs: http://deb.debian.org/debian' \
+    'Suites: bookworm bookworm-updates' \
+    'Components: main' \
+    'Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg' |
+    "${SUDO[@]}" tee /etc/apt/sources.list.d/sodt-deb-src.sources >/dev/null
+  need_update=1
+fi
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ] || [ "$need_update" -eq 1 ]; then
+  log "apt-get update"
+  "${SUDO[@]}" apt-get update -qq
+fi
+if [ "${#missing[@]}" -gt 0 ]; then
+  log "installing: ${missing[*]}"
+  "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  log "all packages already installed"
+fi
+
+# MeshLab SDK: headers of Debian's meshlab source package, same version as the
+# installed binary (the plugin ABI must match it).
+if [ -f "$SDK_LINK/src/common/interfaces.h" ] && [ -f "$SDK_LINK/vcglib/vcg/complex/complex.h" ]; then
+  log "MeshLab SDK already present: $SDK_LINK"
+else
+  mkdir -p "$DEPS_DIR"
+  log "fetching Debian's meshlab source package into $DEPS_DIR"
+  # apt-get source as root warns about the unsandboxed download; harmless.
+  (cd "$DEPS_DIR" && apt-get source -qq meshlab 2>&1 | grep -v 'unsandboxed' || true)
+  src="$(find "$DEPS_DIR" -maxdepth 1 -mindepth 1 -type d -name 'meshlab-*' | sort | tail -n1)"
+  if [ -z "$src" ] || [ ! -f "$src/src/common/interfaces.h" ]; then
+    echo "install-deps.sh: 'apt-get source meshlab' did not produce src/common/interfaces.h under $DEPS_DIR" >&2
+    exit 1
+  fi
+  ln -sfn "$(basename "$src")" "$SDK_LINK"
+  rm -f "$DEPS_DIR"/meshlab_*.tar.* "$DEPS_DIR"/meshlab_*.dsc
+  log "MeshLab SDK ready: $SDK_LINK -> $(basename "$src")"
+fi
+log "done"

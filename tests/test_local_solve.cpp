@@ -1,0 +1,203 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Tests of the pure S-ODT kernels: the closed form against brute-force
+// minimisation of Eq. 5, Appendix B's invariant, equivariance, degeneracy, guards.
+#include "test_mesh.h"
+
+#include <sodt/local_solve.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using sodt::Star;
+using sodt::Vec3;
+
+namespace {
+
+/// A random star-shaped ring around the origin, roughly in the z = 0 plane,
+/// with the centre displaced inside it; radii and angular gaps vary widely.
+Star randomStar(std::mt19937& g, double zNoise) {
+  Star st;
+  const int n = 4 + static_cast<int>(sodt_test::uniform01(g) * 6);  // 4..9
+  std::vector<double> ang(n);
+  double a = 0;
+  for (int k = 0; k < n; ++k) {
+    a += sodt_test::uniform(g, 0.3, 1.0);
+    ang[k] = a;
+  }
+  for (int k = 0; k < n; ++k) {
+    const double t = ang[k] / a * 2 * sodt::kPi;
+    const double r = sodt_test::uniform(g, 0.5, 2.0);
+    st.ring.emplace_back(r * std::cos(t), r * std::sin(t), sodt_test::uniform(g, -zNoise, zNoise));
+  }
+  st.center = Vec3(sodt_test::uniform(g, -0.2, 0.2), sodt_test::uniform(g, -0.2, 0.2),
+                   sodt_test::uniform(g, -zNoise, zNoise));
+  return st;
+}
+
+/// Minimises the energy of Eq. 5 over the tangent plane by compass search,
+/// starting from the centre: no use of the closed form.
+Vec3 bruteForceMinimum(const Star& st, const Vec3& n) {
+  Vec3 s, t;
+  sodt::tangentFrame(n, s, t);
+  double u = 0, v = 0, step = 1.0;
+  auto energy = [&](double uu, double vv) { return sodt::sodtEnergy(st, st.center + s * uu + t * vv, n); };
+  double best = energy(u, v);
+  while (step > 1e-11) {
+    bool improved = false;
+    const double du[8] = {1, -1, 0, 0, 1, 1, -1, -1}, dv[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+    for (int d = 0; d < 8; ++d) {
+      const double e = energy(u + step * du[d], v + step * dv[d]);
+      if (e < best) {
+        best = e;
+        u += step * du[d];
+        v += step * dv[d];
+        improved = true;
+        break;
+      }
+    }
+    if (!improved) step *= 0.5;
+  }
+  return st.center + s * u + t * v;
+}
+
+}  // namespace
+
+TEST(LocalSolve, ClosedFormMatchesBruteForceOnRandomStars) {
+  std::mt19937 g(12345);
+  int compared = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Star st = randomStar(g, trial % 2 ? 0.3 : 0.0);
+    const sodt::LocalMove mv = sodt::solveStar(st);
+    if (!mv.ok) continue;
+    const Vec3 brute = bruteForceMinimum(st, mv.normal);
+    EXPECT_LT((mv.target - brute).Norm(), 1e-6) << "trial " << trial;
+    // The closed form is a stationary point: the energy rises in every direction.
+    Vec3 s, t;
+    sodt::tangentFrame(mv.normal, s, t);
+    const double e0 = sodt::sodtEnergy(st, mv.target, mv.normal);
+    for (int d = 0; d < 8; ++d) {
+      const double ang = d * sodt::kPi / 4;
+      const Vec3 q = mv.target + (s * std::cos(ang) + t * std::sin(ang)) * 1e-4;
+      EXPECT_GE(sodt::sodtEnergy(st, q, mv.normal), e0 - 1e-12 * std::abs(e0));
+    }
+    // The target lies in the tangent plane through the centre.
+    EXPECT_NEAR((mv.target - st.center) * mv.normal, 0.0, 1e-12);
+    ++compared;
+  }
+  EXPECT_GT(compared, 250);  // almost every star-shaped ring gives a convex problem
+}
+
+TEST(LocalSolve, SumOfProjectedAreasIsInvariant) {
+  std::mt19937 g(777);
+  for (int trial = 0; trial < 100; ++trial) {
+    const Star st = randomStar(g, 0.4);
+    const Vec3 n = sodt::starNormal(st);
+    Vec3 s, t;
+    sodt::tangentFrame(n, s, t);
+    auto sumD = [&](const Vec3& p) {
+      double c = 0;
+      for (std::size_t k = 0; k < st.size(); ++k) c += sodt::projectedDoubleArea(st, k, p, n);
+      return c;
+    };
+    const double c0 = sumD(st.center);
+    for (int j = 0; j < 10; ++j) {
+      const Vec3 p = st.center + s * sodt_test::uniform(g, -3, 3) + t * sodt_test::uniform(g, -3, 3);
+      EXPECT_NEAR(sumD(p), c0, 1e-12 * (1 + std::abs(c0)));
+    }
+  }
+}
+
+TEST(LocalSolve, RegularStarIsFixedPointAndPerturbedCentreIsPulledBack) {
+  for (int n = 3; n <= 8; ++n) {
+    Star st;
+    for (int k = 0; k < n; ++k)
+      st.ring.emplace_back(std::cos(2 * sodt::kPi * k / n), std::sin(2 * sodt::kPi * k / n), 0);
+    st.center = Vec3(0, 0, 0);
+    sodt::LocalMove mv = sodt::solveStar(st);
+    ASSERT_TRUE(mv.ok) << n;
+    EXPECT_LT(mv.target.Norm(), 1e-14) << n;
+    st.center = Vec3(0.2, -0.1, 0);
+    mv = sodt::solveStar(st);
+    ASSERT_TRUE(mv.ok) << n;
+    EXPECT_LT(mv.target.Norm(), 1e-12) << n;  // planar ring: the plane is exact, target is the centre
+  }
+}
+
+TEST(LocalSolve, MoveIsEquivariantUnderRigidMotionAndScale) {
+  std::mt19937 g(99);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Star st = randomStar(g, 0.3);
+    const sodt::LocalMove mv = sodt::solveStar(st);
+    if (!mv.ok) continue;
+    // rotation about an oblique axis, then scale and translation
+    const Vec3 axis = Vec3(1, 2, 3).Normalize();
+    const double ang = 0.7, scale = 3.5;
+    const Vec3 shift(10, -4, 2);
+    auto xf = [&](const Vec3& p) {
+      const Vec3 r = p * std::cos(ang) + (axis ^ p) * std::sin(ang) + axis * (axis * p) * (1 - std::cos(ang));
+      return r * scale + shift;
+    };
+    Star moved;
+    moved.center = xf(st.center);
+    for (const Vec3& p : st.ring) moved.ring.push_back(xf(p));
+    const sodt::LocalMove mv2 = sodt::solveStar(moved);
+    ASSERT_TRUE(mv2.ok);
+    EXPECT_LT((mv2.target - xf(mv.target)).Norm(), 1e-9 * scale);
+  }
+}
+
+TEST(LocalSolve, DegenerateStarsFailCleanly) {
+  Star collapsed;  // every ring point on the centre
+  collapsed.center = Vec3(1, 1, 1);
+  collapsed.ring.assign(5, Vec3(1, 1, 1));
+  sodt::LocalMove mv = sodt::solveStar(collapsed);
+  EXPECT_FALSE(mv.ok);
+  EXPECT_TRUE(sodt::isFinite(mv.target));
+  EXPECT_EQ(mv.target, collapsed.center);
+
+  Star line;  // collinear ring: zero area everywhere
+  line.center = Vec3(0, 0, 0);
+  for (int k = 0; k < 4; ++k) line.ring.emplace_back(k - 1.5, 0, 0);
+  mv = sodt::solveStar(line);
+  EXPECT_FALSE(mv.ok);
+  EXPECT_TRUE(sodt::isFinite(mv.target));
+
+  Star tiny;  // fewer than three neighbours
+  tiny.ring = {Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  EXPECT_FALSE(sodt::solveStar(tiny).ok);
+}
+
+TEST(Guards, FoldedPositionsAreRejected) {
+  Star st;  // regular hexagon around the origin, plane z = 0
+  for (int k = 0; k < 6; ++k)
+    st.ring.emplace_back(std::cos(sodt::kPi * k / 3), std::sin(sodt::kPi * k / 3), 0);
+  st.center = Vec3(0, 0, 0);
+  const Vec3 n(0, 0, 1);
+  EXPECT_FALSE(sodt::moveFolds(st, Vec3(0.3, 0.2, 0), n));
+  EXPECT_TRUE(sodt::moveFolds(st, Vec3(1.5, 0, 0), n));     // outside the ring: triangles flip
+  EXPECT_TRUE(sodt::moveFolds(st, (st.ring[0] + st.ring[1]) * 0.5, n));  // on a ring edge: collapses
+  EXPECT_TRUE(sodt::moveFolds(st, st.ring[2], n));          // onto a neighbour
+  // Any position outside the hexagon's kernel folds some triangle.
+  std::mt19937 g(5);
+  for (int j = 0; j < 1000; ++j) {
+    const Vec3 p(sodt_test::uniform(g, -2, 2), sodt_test::uniform(g, -2, 2), 0);
+    bool inside = true;
+    for (int k = 0; k < 6; ++k) {
+      const Vec3 a = st.at(k), b = st.at(k + 1);
+      if (((b - a) ^ (p - a))[2] <= 1e-9) inside = false;
+    }
+    if (!inside) {
+      EXPECT_TRUE(sodt::moveFolds(st, p, n)) << p[0] << " " << p[1];
+    }
+  }
+}
+
+TEST(Guards, QualityMeasureIsTheStarsSmallestAngle) {
+  Star st;
+  for (int k = 0; k < 6; ++k)
+    st.ring.emplace_back(std::cos(sodt::kPi * k / 3), std::sin(sodt::kPi * k / 3), 0);
+  EXPECT_NEAR(sodt::starMinAngle(st, Vec3(0, 0, 0)) * sodt::kRadToDeg, 60.0, 1e-9);
+  EXPECT_LT(sodt::starMinAngle(st, Vec3(0.5, 0, 0)) * sodt::kRadToDeg, 60.0);
+}

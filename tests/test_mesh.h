@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Procedural fixtures for the core tests: spheres, planar grids, bipyramids,
+// all deterministic (seeded std::mt19937 with hand-made uniform draws).
+#pragma once
+
+#include <sodt/mesh.h>
+
+#include <vcg/complex/algorithms/clean.h>
+#include <vcg/complex/algorithms/create/platonic.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <sys/stat.h>
+#include <vector>
+
+namespace sodt_test {
+
+/// Uniform double in [0, 1) from a 32-bit engine; the same on every platform.
+inline double uniform01(std::mt19937& g) { return (g() >> 5) * (1.0 / 134217728.0); }
+inline double uniform(std::mt19937& g, double lo, double hi) { return lo + (hi - lo) * uniform01(g); }
+
+inline bool fileExists(const std::string& p) {
+  struct stat st;
+  return ::stat(p.c_str(), &st) == 0;
+}
+
+/// Adds a triangle with the given vertex indices.
+template <class M>
+void addFace(M& m, int a, int b, int c) {
+  auto fi = vcg::tri::Allocator<M>::AddFaces(m, 1);
+  fi->V(0) = &m.vert[a];
+  fi->V(1) = &m.vert[b];
+  fi->V(2) = &m.vert[c];
+}
+
+/// Unit icosphere with `subdiv` midpoint subdivisions (10*4^s + 2 vertices).
+template <class M>
+void makeSphere(M& m, int subdiv) {
+  m.Clear();
+  vcg::tri::Sphere(m, subdiv);
+  vcg::tri::Allocator<M>::CompactEveryVector(m);
+}
+
+/// Moves every vertex of a unit sphere tangentially by up to `amount` times
+/// the mean edge length, then back onto the sphere: bad angles, same surface.
+template <class M>
+void jitterOnSphere(M& m, double amount, unsigned seed) {
+  std::mt19937 g(seed);
+  double mean = 0;
+  for (const auto& f : m.face) mean += vcg::Distance(f.cP(0), f.cP(1));
+  mean /= double(m.face.size());
+  for (auto& v : m.vert) {
+    using C = typename M::CoordType;
+    C d(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1));
+    C n = v.P();
+    d = d - n * (d * n);
+    v.P() = v.P() + d * typename M::ScalarType(amount * mean);
+    v.P().Normalize();
+  }
+}
+
+/// Planar grid of n x n vertices in z = 0 over [0,1]^2, interior vertices
+/// jittered in-plane by up to `jitter` cell sizes. Open (has a boundary).
+template <class M>
+void makeGrid(M& m, int n, double jitter, unsigned seed) {
+  m.Clear();
+  std::mt19937 g(seed);
+  vcg::tri::Allocator<M>::AddVertices(m, n * n);
+  const double h = 1.0 / (n - 1);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      double px = x * h, py = y * h;
+      if (x > 0 && y > 0 && x < n - 1 && y < n - 1) {
+        px += uniform(g, -jitter, jitter) * h;
+        py += uniform(g, -jitter, jitter) * h;
+      }
+      m.vert[y * n + x].P() = typename M::CoordType(px, py, 0);
+    }
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      const int a = y * n + x, b = a + 1, c = a + n, d = c + 1;
+      addFace(m, a, b, d);
+      addFace(m, a, d, c);
+    }
+}
+
+/// Closed bipyramid: vertex 0 is the top apex at `top`, vertex 1 the bottom
+/// apex at (0,0,-1), vertices 2.. the ring (in the z = 0 plane, counter-clockwise
+/// seen from above). Only vertex 0 is selected.
+template <class M>
+void makeBipyramid(M& m, const std::vector<vcg::Point3d>& ring, const vcg::Point3d& top) {
+  m.Clear();
+  const int n = static_cast<int>(ring.size());
+  vcg::tri::Allocator<M>::AddVertices(m, n + 2);
+  using C = typename M::CoordType;
+  m.vert[0].P() = C(top[0], top[1], top[2]);
+  m.vert[1].P() = C(0, 0, -1);
+  for (int k = 0; k < n; ++k) m.vert[2 + k].P() = C(ring[k][0], ring[k][1], ring[k][2]);
+  for (int k = 0; k < n; ++k) {
+    addFace(m, 0, 2 + k, 2 + (k + 1) % n);
+    addFace(m, 1, 2 + (k + 1) % n, 2 + k);
+  }
+  for (auto& v : m.vert) v.ClearS();
+  m.vert[0].SetS();
+}
+
+}  // namespace sodt_test

@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Tests of the ring topology: closed fans, borders, pinched vertices,
+// non-manifold edges, deleted and degenerate faces.
+#include "test_mesh.h"
+
+#include <sodt/topology.h>
+
+#include <gtest/gtest.h>
+
+using sodt::VertexKind;
+using Mesh = sodt::MeshD;
+
+TEST(Topology, ClosedSphereHasOnlyInteriorVerticesWithOrderedRings) {
+  Mesh m;
+  sodt_test::makeSphere(m, 2);
+  const sodt::RingTopology t = sodt::buildRingTopology(m);
+  for (int i = 0; i < m.vn; ++i) {
+    ASSERT_EQ(t.kind[i], VertexKind::Interior) << i;
+    const int n = t.ringSize(i);
+    EXPECT_TRUE(n == 5 || n == 6);
+    // consecutive ring vertices together with i form a face of the mesh, same orientation
+    for (int k = 0; k < n; ++k) {
+      const int a = t.ringIdx[t.ringBegin[i] + k], b = t.ringIdx[t.ringBegin[i] + (k + 1) % n];
+      bool found = false;
+      for (const auto& f : m.face)
+        for (int j = 0; j < 3; ++j)
+          if (f.cV(j) == &m.vert[i] && f.cV((j + 1) % 3) == &m.vert[a] && f.cV((j + 2) % 3) == &m.vert[b])
+            found = true;
+      EXPECT_TRUE(found) << i << " " << a << " " << b;
+    }
+  }
+}
+
+TEST(Topology, GridBorderIsBoundary) {
+  Mesh m;
+  sodt_test::makeGrid(m, 5, 0.0, 1);
+  const sodt::RingTopology t = sodt::buildRingTopology(m);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 5; ++x) {
+      const bool border = x == 0 || y == 0 || x == 4 || y == 4;
+      EXPECT_EQ(t.kind[y * 5 + x], border ? VertexKind::Boundary : VertexKind::Interior) << x << "," << y;
+    }
+}
+
+TEST(Topology, PinchedVertexAndNonManifoldEdgeAreDetected) {
+  // Two closed octahedra sharing one vertex: that vertex has two closed fans.
+  Mesh m;
+  vcg::tri::Octahedron(m);
+  Mesh second;
+  vcg::tri::Octahedron(second);
+  const int n0 = m.vn;
+  vcg::tri::Allocator<Mesh>::AddVertices(m, second.vn - 1);
+  // second's vertex 0 is glued to m's vertex 0; the others are shifted copies
+  std::vector<int> map(second.vn);
+  map[0] = 0;
+  for (int i = 1; i < second.vn; ++i) {
+    map[i] = n0 + i - 1;
+    m.vert[map[i]].P() = second.vert[i].P() + second.vert[0].P() * -1.0 + m.vert[0].P() + vcg::Point3d(2, 0, 0);
+  }
+  for (const auto& f : second.face)
+    sodt_test::addFace(m, map[f.cV(0) - &second.vert[0]], map[f.cV(1) - &second.vert[0]],
+                       map[f.cV(2) - &second.vert[0]]);
+  sodt::RingTopology t = sodt::buildRingTopology(m);
+  EXPECT_EQ(t.kind[0], VertexKind::NonManifold);
+  for (int i = 1; i < m.vn; ++i) EXPECT_EQ(t.kind[i], VertexKind::Interior) << i;
+
+  // A third face on an edge of a single octahedron: both ends of that edge are non-manifold.
+  Mesh o;
+  vcg::tri::Octahedron(o);
+  const auto& f0 = o.face[0];
+  const int a = f0.cV(0) - &o.vert[0], b = f0.cV(1) - &o.vert[0];
+  vcg::tri::Allocator<Mesh>::AddVertices(o, 1);
+  o.vert.back().P() = vcg::Point3d(5, 5, 5);
+  sodt_test::addFace(o, a, b, o.vn - 1);
+  t = sodt::buildRingTopology(o);
+  EXPECT_EQ(t.kind[a], VertexKind::NonManifold);
+  EXPECT_EQ(t.kind[b], VertexKind::NonManifold);
+}
+
+TEST(Topology, DeletedIsolatedAndDegenerateFaceVertices) {
+  Mesh m;
+  sodt_test::makeSphere(m, 1);
+  vcg::tri::Allocator<Mesh>::AddVertices(m, 1);  // isolated
+  const int iso = m.vn - 1;
+  vcg::tri::Allocator<Mesh>::DeleteVertex(m, m.vert[iso]);
+  vcg::tri::Allocator<Mesh>::AddVertices(m, 1);
+  const int lonely = static_cast<int>(m.vert.size()) - 1;
+  // a face with a repeated vertex marks its vertices as non-manifold
+  sodt_test::addFace(m, 3, 3, 4);
+  const sodt::RingTopology t = sodt::buildRingTopology(m);
+  EXPECT_EQ(t.kind[iso], VertexKind::Deleted);
+  EXPECT_EQ(t.kind[lonely], VertexKind::Isolated);
+  EXPECT_EQ(t.kind[3], VertexKind::NonManifold);
+  EXPECT_EQ(t.kind[4], VertexKind::NonManifold);
+  EXPECT_EQ(t.kind[5], VertexKind::Interior);
+}

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The S-ODT vertex update on a one-ring star: tangent plane (paper Eq. 4),
+// quadratic coefficients (Eq. 8), 2x2 solve (Eq. 7), and the move guards.
+#pragma once
+
+#include "geometry.h"
+
+#include <cstddef>
+#include <vector>
+
+namespace sodt {
+
+/// One-ring of an interior vertex. Triangle k is (center, ring[k], ring[k+1])
+/// with indices taken cyclically, in the orientation of the mesh faces.
+struct Star {
+  Vec3 center;
+  std::vector<Vec3> ring;
+  /// Optional unit normals of the star's triangles in the input mesh (zero
+  /// for a triangle that was degenerate there); the fold guard keeps every
+  /// triangle within 90 degrees of these so that no face ends up inverted.
+  std::vector<Vec3> refNormal;
+
+  std::size_t size() const { return ring.size(); }
+  const Vec3& at(std::size_t k) const { return ring[k % ring.size()]; }
+};
+
+/// Result of the local solve.
+struct LocalMove {
+  bool ok = false;  ///< false: degenerate star, or the quadratic is not convex
+  Vec3 target;      ///< minimiser x* (equal to the centre when !ok)
+  Vec3 normal;      ///< unit normal n of the tangent plane
+};
+
+/// Coefficients of the quadratic of Eq. 5 restricted to the plane
+/// x' = x0 + u s + v t: its minimiser solves [2E G; G 2F] (u v)^T = (H I)^T.
+struct SodtSystem {
+  double C = 0, E = 0, F = 0, G = 0, H = 0, I = 0;
+};
+
+/// Unit normal of the tangent plane (Eq. 4): the area-weighted mean of the
+/// face normals, i.e. the normalised sum of the triangles' area vectors.
+/// Returns the zero vector when that sum vanishes.
+inline Vec3 starNormal(const Star& st) {
+  Vec3 sum(0, 0, 0);
+  const std::size_t n = st.size();
+  for (std::size_t k = 0; k < n; ++k)
+    sum += (st.at(k) - st.center) ^ (st.at(k + 1) - st.center);
+  const double len = sum.Norm();
+  if (!(len > 0) || !std::isfinite(len)) return Vec3(0, 0, 0);
+  return sum / len;
+}
+
+/// D'_k = det(x_k - p, x_{k+1} - p, n): signed area of triangle k with the
+/// centre at p, projected on the plane of normal n (doubled).
+inline double projectedDoubleArea(const Star& st, std::size_t k, const Vec3& p, const Vec3& n) {
+  return ((st.at(k) - p) ^ (st.at(k + 1) - p)) * n;
+}
+
+/// The objective of Eq. 5 with the centre at p, evaluated term by term.
+/// Used by tests to check the closed form; O(N).
+inline double sodtEnergy(const Star& st, const Vec3& p, const Vec3& n) {
+  double e = 0;
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const Vec3 a = st.at(k) - p, b = st.at(k + 1) - p, c = st.at(k + 1) - st.at(k);
+    e += (a.SquaredNorm() + b.SquaredNorm() + c.SquaredNorm()) * projectedDoubleArea(st, k, p, n);
+  }
+  return e;
+}
+
+/// Coefficients of Eq. 8 in the frame (s, t, n), relative to the centre.
+///
+/// With X_k = x_k - x0, e_k = X_{k+1} - X_k and w_k = e_k x n, the projected
+/// area is D'_k = c_k - p.w_k with c_k = det(X_k, X_{k+1}, n); the cubic terms
+/// cancel because sum_k D'_k = C is constant (Appendix B), leaving a quadratic.
+inline SodtSystem sodtCoefficients(const Star& st, const Vec3& n, const Vec3& s, const Vec3& t) {
+  SodtSystem q;
+  const std::size_t N = st.size();
+  for (std::size_t k = 0; k < N; ++k) {
+    const Vec3 Xa = st.at(k) - st.center, Xb = st.at(k + 1) - st.center;
+    const Vec3 e = Xb - Xa;
+    const Vec3 w = e ^ n;  // det(s, e, n) = s . (e x n)
+    const Vec3 sum = Xa + Xb;
+    const double c = (Xa ^ Xb) * n;
+    const double ss = s * sum, ts = t * sum, sw = s * w, tw = t * w;
+    const double r = Xa.SquaredNorm() + Xb.SquaredNorm() - Xa * Xb;
+    q.C += c;
+    q.E += ss * sw;
+    q.F += ts * tw;
+    q.G += ss * tw + ts * sw;
+    q.H += ss * c + r * sw;
+    q.I += ts * c + r * tw;
+  }
+  q.E += q.C;
+  q.F += q.C;
+  return q;
+}
+
+/// Closed-form S-ODT minimiser of Eq. 5 over the tangent plane of Eq. 4
+/// (Algorithm 1, one vertex). Computed in double; never returns NaN.
+/// \return ok=false when the star is degenerate or the quadratic is not
+///         strictly convex (Hessian test E > 0 and 4EF > G^2).
+inline LocalMove solveStar(const Star& st) {
+  LocalMove mv;
+  mv.target = st.center;
+  if (st.size() < 3) return mv;
+  mv.normal = starNormal(st);
+  if (mv.normal.SquaredNorm() == 0) return mv;
+  Vec3 s, t;
+  tangentFrame(mv.normal, s, t);
+  const SodtSystem q = sodtCoefficients(st, mv.normal, s, t);
+  const double det = 4 * q.E * q.F - q.G * q.G;
+  // Relative test: a determinant at rounding level is singular in practice.
+  const double scale = 4 * std::abs(q.E * q.F) + q.G * q.G;
+  if (!(q.E > 0) || !(det > 1e-12 * scale)) return mv;
+  const double u = (2 * q.F * q.H - q.G * q.I) / det;
+  const double v = (2 * q.E * q.I - q.G * q.H) / det;
+  const Vec3 target = st.center + s * u + t * v;
+  if (!isFinite(target)) return mv;
+  mv.ok = true;
+  mv.target = target;
+  return mv;
+}
+
+/// Smallest interior angle (radians) over the triangles of the star with the
+/// centre placed at p.
+inline double starMinAngle(const Star& st, const Vec3& p) {
+  double m = kPi;
+  for (std::size_t k = 0; k < st.size(); ++k)
+    m = std::min(m, triangleMinAngle(p, st.at(k), st.at(k + 1)));
+  return m;
+}
+
+/// True when moving the centre from st.center to p flips or collapses a
+/// triangle of the star. A triangle collapses when its area falls to rounding
+/// level relative to its longest edge; it flips when its area vector turns
+/// against the one it has now (or against the plane normal n, for a triangle
+/// that is degenerate now), or against its input normal st.refNormal[k].
+inline bool moveFolds(const Star& st, const Vec3& p, const Vec3& n) {
+  constexpr double kCollapse = 1e-12;  // |sin| of the smallest admissible angle, roughly
+  const bool haveRef = st.refNormal.size() == st.size();
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const Vec3& a = st.at(k);
+    const Vec3& b = st.at(k + 1);
+    const Vec3 now = doubleAreaVector(st.center, a, b);
+    const Vec3 next = doubleAreaVector(p, a, b);
+    const double l2 = std::max({(a - p).SquaredNorm(), (b - p).SquaredNorm(), (b - a).SquaredNorm()});
+    if (!(next.Norm() > kCollapse * l2)) return true;
+    const double l2now = std::max({(a - st.center).SquaredNorm(), (b - st.center).SquaredNorm(),
+                                   (b - a).SquaredNorm()});
+    const Vec3 cur = now.Norm() > kCollapse * l2now ? now : n;
+    if (!(next * cur > 0)) return true;
+    if (haveRef && next * st.refNormal[k] < 0) return true;
+  }
+  return false;
+}
+
+/// Tangential Laplacian target: the centroid of the ring projected on the
+/// plane through the centre with normal n (Eq. 3 with every S'_k = 1,
+/// restricted to the tangent plane).
+inline Vec3 tangentialLaplacianTarget(const Star& st, const Vec3& n) {
+  Vec3 c(0, 0, 0);
+  for (const Vec3& q : st.ring) c += q;
+  c /= double(st.size());
+  const Vec3 d = c - st.center;
+  return st.center + d - n * (d * n);
+}
+
+}  // namespace sodt

@@ -1,0 +1,281 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Mesh quality measures shared by the CLI, the plugin log and the tests:
+// angles, enclosed volume, Hausdorff distance, faces turned against a reference.
+#pragma once
+
+#include "geometry.h"
+#include "mesh.h"
+
+#include <vcg/complex/algorithms/point_sampling.h>
+#include <vcg/complex/algorithms/update/bounding.h>
+#include <vcg/complex/algorithms/update/normal.h>
+#include <vcg/complex/complex.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace sodt {
+
+/// Angle distribution over every corner of every live triangle, in degrees.
+struct AngleStats {
+  double minDeg = 0;       ///< smallest corner angle (0 for a mesh without faces)
+  double maxDeg = 0;       ///< largest corner angle
+  std::vector<long long> histogram = std::vector<long long>(180, 0);  ///< bin b counts angles in [b, b+1)
+  double fracBelow30 = 0;  ///< fraction of corner angles below 30 degrees
+  double fracAbove90 = 0;  ///< fraction of corner angles above 90 degrees
+  double p1TriMinDeg = 0;  ///< 1st percentile of the per-triangle smallest angle
+  long long faces = 0;     ///< live faces measured
+};
+
+/// Enclosed volume of a closed mesh.
+struct VolumeResult {
+  bool closed = false;  ///< every edge has exactly two faces, oriented consistently
+  double volume = 0;    ///< signed volume (positive for outward normals); 0 when !closed
+};
+
+/// Two-sided surface distance, relative to the bounding-box diagonal of the reference.
+struct DistanceStats {
+  double maxRel = 0;   ///< symmetric Hausdorff distance / diagonal
+  double meanRel = 0;  ///< mean of the two one-sided mean distances / diagonal
+};
+
+namespace detail {
+
+template <class MeshType>
+Vec3 toVec3(const typename MeshType::CoordType& c) {
+  return Vec3(c[0], c[1], c[2]);
+}
+
+/// Copies the live vertices and faces of any vcg mesh into a double mesh.
+template <class MeshType>
+void copyToDouble(const MeshType& src, MeshD& dst) {
+  dst.Clear();
+  std::vector<int> remap(src.vert.size(), -1);
+  int nv = 0;
+  for (std::size_t i = 0; i < src.vert.size(); ++i)
+    if (!src.vert[i].IsD()) remap[i] = nv++;
+  auto vi = vcg::tri::Allocator<MeshD>::AddVertices(dst, nv);
+  for (std::size_t i = 0; i < src.vert.size(); ++i)
+    if (remap[i] >= 0) dst.vert[remap[i]].P() = toVec3<MeshType>(src.vert[i].cP());
+  (void)vi;
+  int nf = 0;
+  for (const auto& f : src.face)
+    if (!f.IsD()) ++nf;
+  vcg::tri::Allocator<MeshD>::AddFaces(dst, nf);
+  int k = 0;
+  for (const auto& f : src.face) {
+    if (f.IsD()) continue;
+    for (int j = 0; j < 3; ++j)
+      dst.face[k].V(j) = &dst.vert[remap[f.cV(j) - &src.vert[0]]];
+    ++k;
+  }
+  vcg::tri::UpdateBounding<MeshD>::Box(dst);
+  vcg::tri::UpdateNormal<MeshD>::PerVertexNormalizedPerFace(dst);
+}
+
+/// One-sided distances from samples of `from` (all vertices plus area-uniform
+/// random points with a fixed seed) to the surface of `to`.
+inline std::pair<double, double> oneSidedDistance(MeshD& from, MeshD& to, double upperBound) {
+  using Sampler = vcg::tri::HausdorffSampler<MeshD>;
+  Sampler hs(&to);
+  hs.dist_upper_bound = upperBound;
+  using SS = vcg::tri::SurfaceSampling<MeshD, Sampler>;
+  SS::SamplingRandomGenerator().initialize(20130101u);
+  SS::AllVertex(from, hs, false);
+  const int faceSamples = std::max(10000, 2 * from.fn);
+  if (from.fn > 0) SS::Montecarlo(from, hs, faceSamples);
+  if (hs.n_total_samples == 0) return {std::numeric_limits<double>::infinity(), 0.0};
+  return {double(hs.getMaxDist()), double(hs.getMeanDist())};
+}
+
+}  // namespace detail
+
+/// Corner-angle statistics of the live triangles of m, computed in double.
+template <class MeshType>
+AngleStats computeAngleStats(const MeshType& m) {
+  AngleStats s;
+  std::vector<double> triMin;
+  triMin.reserve(m.face.size());
+  double lo = 180, hi = 0;
+  long long below30 = 0, above90 = 0, corners = 0;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    const Vec3 p[3] = {detail::toVec3<MeshType>(f.cP(0)), detail::toVec3<MeshType>(f.cP(1)),
+                       detail::toVec3<MeshType>(f.cP(2))};
+    const double a0 = angleBetween(p[1] - p[0], p[2] - p[0]) * kRadToDeg;
+    const double a1 = angleBetween(p[2] - p[1], p[0] - p[1]) * kRadToDeg;
+    const double a2 = std::max(0.0, 180.0 - a0 - a1);
+    const double a[3] = {a0, a1, a2};
+    double tmin = 180;
+    for (double x : a) {
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+      tmin = std::min(tmin, x);
+      const int bin = std::min(179, std::max(0, static_cast<int>(std::floor(x))));
+      ++s.histogram[bin];
+      below30 += x < 30.0;
+      above90 += x > 90.0;
+      ++corners;
+    }
+    triMin.push_back(tmin);
+  }
+  s.faces = static_cast<long long>(triMin.size());
+  if (s.faces == 0) return s;
+  s.minDeg = lo;
+  s.maxDeg = hi;
+  s.fracBelow30 = double(below30) / double(corners);
+  s.fracAbove90 = double(above90) / double(corners);
+  const std::size_t idx = static_cast<std::size_t>(std::floor(0.01 * double(triMin.size() - 1)));
+  std::nth_element(triMin.begin(), triMin.begin() + idx, triMin.end());
+  s.p1TriMinDeg = triMin[idx];
+  return s;
+}
+
+/// True when every edge of the live faces is shared by exactly two faces that
+/// traverse it in opposite directions (closed, manifold along edges, oriented).
+template <class MeshType>
+bool isClosedOriented(const MeshType& m) {
+  std::vector<std::pair<int, int>> half;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    for (int j = 0; j < 3; ++j)
+      half.emplace_back(int(f.cV(j) - &m.vert[0]), int(f.cV((j + 1) % 3) - &m.vert[0]));
+  }
+  if (half.empty()) return false;
+  std::sort(half.begin(), half.end());
+  for (std::size_t i = 0; i < half.size(); ++i) {
+    if (i > 0 && half[i] == half[i - 1]) return false;
+    if (!std::binary_search(half.begin(), half.end(), std::make_pair(half[i].second, half[i].first)))
+      return false;
+  }
+  return true;
+}
+
+/// Enclosed volume by the divergence theorem, in double, relative to the
+/// bounding-box centre to limit cancellation.
+template <class MeshType>
+VolumeResult enclosedVolume(const MeshType& m) {
+  VolumeResult r;
+  r.closed = isClosedOriented(m);
+  if (!r.closed) return r;
+  Vec3 lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+          std::numeric_limits<double>::max());
+  Vec3 hi = -lo;
+  for (const auto& v : m.vert) {
+    if (v.IsD()) continue;
+    const Vec3 p = detail::toVec3<MeshType>(v.cP());
+    for (int j = 0; j < 3; ++j) {
+      lo[j] = std::min(lo[j], p[j]);
+      hi[j] = std::max(hi[j], p[j]);
+    }
+  }
+  const Vec3 o = (lo + hi) * 0.5;
+  double vol = 0, comp = 0;  // Kahan summation
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    const Vec3 a = detail::toVec3<MeshType>(f.cP(0)) - o, b = detail::toVec3<MeshType>(f.cP(1)) - o,
+               c = detail::toVec3<MeshType>(f.cP(2)) - o;
+    const double term = (a * (b ^ c)) / 6.0 - comp;
+    const double t = vol + term;
+    comp = (t - vol) - term;
+    vol = t;
+  }
+  r.volume = vol;
+  return r;
+}
+
+/// Length of the bounding-box diagonal of the live vertices.
+template <class MeshType>
+double bboxDiagonal(const MeshType& m) {
+  vcg::Box3d b;
+  for (const auto& v : m.vert)
+    if (!v.IsD()) b.Add(detail::toVec3<MeshType>(v.cP()));
+  return b.IsNull() ? 0.0 : b.Diag();
+}
+
+/// Beyond this many reference diagonals, surfaceDistance reports a bound.
+constexpr double kFarDiagonals = 10.0;
+
+/// Symmetric surface distance between a and b by vcglib's point sampling
+/// (every vertex plus max(10000, 2F) area-uniform samples each way, fixed
+/// seed, so the result is repeatable), relative to b's bounding-box diagonal.
+/// Neither mesh is modified. Returns +inf when a mesh has no faces or a
+/// non-finite coordinate. When a vertex lies more than kFarDiagonals
+/// diagonals outside the other mesh's bounding box, maxRel is that box
+/// distance (a lower bound of the Hausdorff distance) and meanRel is NaN.
+template <class MeshA, class MeshB>
+DistanceStats surfaceDistance(const MeshA& a, const MeshB& b) {
+  DistanceStats d;
+  MeshD A, B;
+  detail::copyToDouble(a, A);
+  detail::copyToDouble(b, B);
+  const double diag = B.bbox.Diag();
+  if (A.fn == 0 || B.fn == 0 || !(diag > 0)) {
+    d.maxRel = d.meanRel = std::numeric_limits<double>::infinity();
+    return d;
+  }
+  // A mesh that has run away (e.g. an unguarded run that diverged) would make
+  // the sampling grids degenerate and the search quadratic. Far beyond the
+  // reference the box distance is a tight enough answer: report that bound.
+  double farthest = 0;
+  for (const auto* M : {&A, &B}) {
+    const vcg::Box3d& other = M == &A ? B.bbox : A.bbox;
+    for (const auto& v : M->vert) {
+      if (!isFinite(v.cP())) {
+        d.maxRel = d.meanRel = std::numeric_limits<double>::infinity();
+        return d;
+      }
+      vcg::Point3d q = v.cP();
+      for (int j = 0; j < 3; ++j) q[j] = std::min(std::max(q[j], other.min[j]), other.max[j]);
+      farthest = std::max(farthest, vcg::Distance(q, v.cP()));
+    }
+  }
+  if (farthest > kFarDiagonals * diag) {
+    d.maxRel = farthest / diag;
+    d.meanRel = std::numeric_limits<double>::quiet_NaN();
+    return d;
+  }
+  vcg::Box3d u = A.bbox;
+  u.Add(B.bbox);
+  const double bound = 2.0 * u.Diag() + 1.0;
+  const auto ab = detail::oneSidedDistance(A, B, bound);
+  const auto ba = detail::oneSidedDistance(B, A, bound);
+  d.maxRel = std::max(ab.first, ba.first) / diag;
+  d.meanRel = 0.5 * (ab.second + ba.second) / diag;
+  return d;
+}
+
+/// Symmetric Hausdorff distance relative to b's bounding-box diagonal.
+template <class MeshA, class MeshB>
+double hausdorffRel(const MeshA& a, const MeshB& b) {
+  return surfaceDistance(a, b).maxRel;
+}
+
+/// Number of faces whose normal turned by more than 90 degrees relative to
+/// the same face of ref, or that collapsed to zero area while the reference
+/// face had area. Returns -1 when the face lists do not correspond (different
+/// sizes or vertex indices).
+template <class MeshType, class RefType>
+long long countInvertedFaces(const MeshType& m, const RefType& ref) {
+  if (m.face.size() != ref.face.size() || m.vert.size() != ref.vert.size()) return -1;
+  long long n = 0;
+  for (std::size_t i = 0; i < m.face.size(); ++i) {
+    const auto& f = m.face[i];
+    const auto& g = ref.face[i];
+    if (f.IsD() || g.IsD()) continue;
+    for (int j = 0; j < 3; ++j)
+      if (f.cV(j) - &m.vert[0] != g.cV(j) - &ref.vert[0]) return -1;
+    const Vec3 nf = doubleAreaVector(detail::toVec3<MeshType>(f.cP(0)), detail::toVec3<MeshType>(f.cP(1)),
+                                     detail::toVec3<MeshType>(f.cP(2)));
+    const Vec3 ng = doubleAreaVector(detail::toVec3<RefType>(g.cP(0)), detail::toVec3<RefType>(g.cP(1)),
+                                     detail::toVec3<RefType>(g.cP(2)));
+    const double dot = nf * ng;
+    if (dot < 0 || (nf.SquaredNorm() == 0 && ng.SquaredNorm() > 0)) ++n;
+  }
+  return n;
+}
+
+}  // namespace sodt
