@@ -1,0 +1,237 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Loads a built MeshLab 2020.09 filter plugin and writes the .mlx script of one
+// of its filters with MeshLab's own serializer, or checks a shipped script.
+//
+// Usage:
+//   sodt_plugin_script_tool PLUGIN.so "FILTER NAME" --write OUT.mlx
+//   sodt_plugin_script_tool PLUGIN.so "FILTER NAME" --check SHIPPED.mlx
+// --write saves the filter's parameter list with its defaults, serialized by
+// MeshLab (as the GUI's "Save filter script" does, minus descriptions). --check verifies that SHIPPED.mlx names the
+// filter once and lists exactly the plugin's parameters, in order, with the
+// same names and types, that MeshLab parses every value, and that enum values
+// are in range: the conditions under which meshlabserver 2020.09 neither
+// aborts nor silently falls back to a default.
+// Exit status: 0 ok, 1 check failed, 2 usage or loading error.
+
+#include <common/filterscript.h>
+#include <common/interfaces.h>
+#include <common/meshmodel.h>
+
+#include <QCoreApplication>
+#include <QDomDocument>
+#include <QFile>
+#include <QFileInfo>
+#include <QXmlStreamWriter>
+#include <QPluginLoader>
+
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <vector>
+
+namespace {
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: sodt_plugin_script_tool PLUGIN.so \"FILTER NAME\" --write OUT.mlx\n"
+               "       sodt_plugin_script_tool PLUGIN.so \"FILTER NAME\" --check SHIPPED.mlx\n");
+  return 2;
+}
+
+/// One <Param> element of a script as written in the file.
+struct XmlParam {
+  QString name, type, value;
+};
+
+/// Reads the <Param> elements of every <filter name=filterName> in path.
+/// Returns the number of such filters, or -1 when the file is not a script.
+int readXmlParams(const QString& path, const QString& filterName, QList<XmlParam>& out) {
+  QFile f(path);
+  if (!f.open(QIODevice::ReadOnly)) return -1;
+  QDomDocument doc;
+  if (!doc.setContent(&f)) return -1;
+  const QDomElement root = doc.documentElement();
+  if (root.nodeName() != "FilterScript") return -1;
+  int found = 0;
+  for (QDomElement e = root.firstChildElement("filter"); !e.isNull();
+       e = e.nextSiblingElement("filter")) {
+    if (e.attribute("name") != filterName) continue;
+    ++found;
+    for (QDomElement p = e.firstChildElement("Param"); !p.isNull();
+         p = p.nextSiblingElement("Param"))
+      out.append({p.attribute("name"), p.attribute("type"), p.attribute("value")});
+  }
+  return found;
+}
+
+/// Compares a shipped script with the plugin's parameter list; prints every
+/// problem and returns how many there are.
+int checkScript(const QString& path, const QString& filterName, const RichParameterList& plugin) {
+  int problems = 0;
+  auto problem = [&problems](const QString& what) {
+    std::fprintf(stderr, "mlx check: %s\n", qUtf8Printable(what));
+    ++problems;
+  };
+
+  QList<XmlParam> xml;
+  const int filters = readXmlParams(path, filterName, xml);
+  if (filters < 0) {
+    problem("'" + path + "' is not a readable FilterScript XML file");
+    return problems;
+  }
+  if (filters != 1)
+    problem(QString("expected exactly one <filter name=\"%1\">, found %2").arg(filterName).arg(filters));
+
+  // What meshlabserver itself makes of the file: a value it cannot parse is
+  // dropped silently and the default is used instead.
+  FilterScript parsed;
+  if (!parsed.open(path)) problem("MeshLab's FilterScript::open rejects '" + path + "'");
+  int parsedCount = 0;
+  for (const FilterNameParameterValuesPair& f : parsed)
+    if (f.filterName() == filterName) parsedCount += f.second.size();
+  if (parsedCount != xml.size())
+    problem(QString("MeshLab parsed %1 of the %2 <Param> values (a value it cannot parse is "
+                    "replaced by the default)")
+                .arg(parsedCount)
+                .arg(xml.size()));
+
+  std::vector<const RichParameter*> expected;
+  for (const RichParameter& rp : plugin) expected.push_back(&rp);
+  if (int(expected.size()) != xml.size())
+    problem(QString("the plugin has %1 parameters, the script lists %2")
+                .arg(int(expected.size()))
+                .arg(xml.size()));
+  const int n = std::min(int(expected.size()), xml.size());
+  for (int i = 0; i < n; ++i) {
+    const RichParameter& rp = *expected[size_t(i)];
+    const XmlParam& xp = xml[i];
+    if (xp.name != rp.name())
+      problem(QString("parameter %1: script name '%2', plugin name '%3'").arg(i).arg(xp.name, rp.name()));
+    if (xp.type != rp.stringType())
+      problem(QString("parameter '%1': script type '%2', plugin type '%3'")
+                  .arg(rp.name(), xp.type, rp.stringType()));
+    if (rp.value().isEnum()) {
+      const int card = static_cast<const RichEnum&>(rp).enumvalues.size();
+      bool ok = false;
+      const int v = xp.value.toInt(&ok);
+      if (!ok || v < 0 || v >= card)
+        problem(QString("parameter '%1': enum value '%2' is not in [0, %3)").arg(rp.name(), xp.value).arg(card));
+    }
+  }
+  return problems;
+}
+
+/// Position of an attribute in the written file: the ones a reader needs
+/// first, then the enum entries in index order, then anything else.
+int attributeRank(const QString& a) {
+  static const QStringList first{"name", "type", "value", "enum_cardinality"};
+  const int i = first.indexOf(a);
+  if (i >= 0) return i;
+  if (a.startsWith("enum_val")) return 100 + a.mid(8).toInt();
+  return 1000000;
+}
+
+/// Writes a script with one filter, each <Param> serialized by MeshLab's own
+/// RichParameter::fillToXMLDocument (values only, no description or tooltip),
+/// with the attributes in a fixed order so the output is reproducible (QtXml
+/// orders them by a randomly seeded hash).
+bool writeScript(const QString& path, const QString& filterName, const RichParameterList& params) {
+  QByteArray xml;
+  QXmlStreamWriter w(&xml);
+  w.setAutoFormatting(true);
+  w.setAutoFormattingIndent(1);
+  w.writeComment(" SPDX-License-Identifier: GPL-3.0-or-later ");
+  w.writeComment(" meshlabserver 2020.09 script running \"" + filterName +
+                 "\" with every parameter listed (a missing or misspelled one aborts meshlabserver). ");
+  // No double hyphen: it ends an XML comment early.
+  w.writeComment(" Generated from the built plugin by tests/plugin/sodt_plugin_script_tool (write "
+                 "mode); a test checks that it still matches the plugin. ");
+  w.writeDTD("<!DOCTYPE FilterScript>");
+  w.writeStartElement("FilterScript");
+  w.writeStartElement("filter");
+  w.writeAttribute("name", filterName);
+  QDomDocument doc;
+  for (const RichParameter& rp : params) {
+    const QDomElement e = rp.fillToXMLDocument(doc, false);
+    const QDomNamedNodeMap attrs = e.attributes();
+    QStringList names;
+    for (int i = 0; i < attrs.count(); ++i) names << attrs.item(i).nodeName();
+    std::stable_sort(names.begin(), names.end(), [](const QString& a, const QString& b) {
+      const int ra = attributeRank(a), rb = attributeRank(b);
+      return ra != rb ? ra < rb : a < b;
+    });
+    w.writeEmptyElement("Param");
+    for (const QString& n : names) w.writeAttribute(n, e.attribute(n));
+  }
+  w.writeEndElement();
+  w.writeEndElement();
+  if (w.hasError()) return false;
+  QFile f(path);
+  if (!f.open(QIODevice::WriteOnly | QIODevice::Truncate)) return false;
+  f.write(xml.trimmed() + "\n");
+  f.close();
+  return f.error() == QFileDevice::NoError;
+}
+
+int run(int argc, char** argv) {
+  if (argc != 5) return usage();
+  // QPluginLoader searches the library path for a relative name.
+  const QString pluginPath = QFileInfo(QString::fromLocal8Bit(argv[1])).absoluteFilePath();
+  const QString filterName = QString::fromUtf8(argv[2]);
+  const QString mode = QString::fromLocal8Bit(argv[3]);
+  const QString scriptPath = QString::fromLocal8Bit(argv[4]);
+  if (mode != "--write" && mode != "--check") return usage();
+
+  QPluginLoader loader(pluginPath);
+  QObject* instance = loader.instance();
+  if (instance == nullptr) {
+    std::fprintf(stderr, "cannot load plugin '%s': %s\n", qUtf8Printable(pluginPath),
+                 qUtf8Printable(loader.errorString()));
+    return 2;
+  }
+  MeshFilterInterface* filters = qobject_cast<MeshFilterInterface*>(instance);
+  if (filters == nullptr) {
+    std::fprintf(stderr, "'%s' is not a MeshLab 2020.09 filter plugin\n", qUtf8Printable(pluginPath));
+    return 2;
+  }
+  QAction* action = nullptr;
+  for (QAction* a : filters->actions())
+    if (a->text() == filterName) action = a;
+  if (action == nullptr) {
+    std::fprintf(stderr, "the plugin has no filter named '%s'\n", qUtf8Printable(filterName));
+    return 2;
+  }
+
+  // An empty mesh without selection: the defaults a script gets on any mesh.
+  MeshDocument md;
+  md.addNewMesh("", "empty");
+  RichParameterList params;
+  filters->initParameterSet(action, md, params);
+
+  if (mode == "--write") {
+    if (!writeScript(scriptPath, filterName, params)) {
+      std::fprintf(stderr, "cannot write '%s'\n", qUtf8Printable(scriptPath));
+      return 2;
+    }
+    std::printf("wrote %d parameters of '%s' to %s\n", params.size(), qUtf8Printable(filterName),
+                qUtf8Printable(scriptPath));
+    return 0;
+  }
+  const int problems = checkScript(scriptPath, filterName, params);
+  if (problems == 0)
+    std::printf("%s lists all %d parameters of '%s' with the plugin's names and types\n",
+                qUtf8Printable(scriptPath), params.size(), qUtf8Printable(filterName));
+  return problems == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  QCoreApplication app(argc, argv);
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
+}
