@@ -168,9 +168,9 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
 
     const sodt::AngleStats after = sodt::computeAngleStats(m);
     Log(strFormat("S-ODT: algorithm %s, guard %s, %d iterations, max backtracks %d, "
-                  "selected only %s",
+                  "Laplacian fallback %s, selected only %s",
                   sodt::toString(p.algorithm), sodt::toString(p.guard), p.iterations,
-                  p.maxBacktracks, yesNo(p.selectedOnly)));
+                  p.maxBacktracks, yesNo(p.laplacianFallback), yesNo(p.selectedOnly)));
     Log(strFormat("S-ODT: min angle %.4f -> %.4f deg, max angle %.4f -> %.4f deg, "
                   "angles below 30 deg %.3f%% -> %.3f%%",
                   before.minDeg, after.minDeg, before.maxDeg, after.maxDeg,
@@ -186,10 +186,10 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
       Log("S-ODT: the mesh is not closed; enclosed volume not reported");
     }
     Log(strFormat("S-ODT: %d sweeps over %d active vertices: %lld moved, %lld backtracked, "
-                  "%lld rejected, %lld failed solves, %lld unchanged; fixed %d boundary and "
-                  "%d non-manifold vertices",
-                  s.iterations, s.activeVertices, s.moved, s.backtracked, s.rejected,
-                  s.failedSolves, s.unchanged, s.fixedBoundary, s.fixedNonManifold));
+                  "%lld Laplacian fallback, %lld rejected, %lld failed solves, %lld unchanged; "
+                  "fixed %d boundary and %d non-manifold vertices",
+                  s.iterations, s.activeVertices, s.moved, s.backtracked, s.fallbackMoves,
+                  s.rejected, s.failedSolves, s.unchanged, s.fixedBoundary, s.fixedNonManifold));
     if (s.cancelled) Log(GLLogStream::WARNING, "S-ODT: cancelled after %d sweeps", s.iterations);
     return true;
   } catch (const std::exception& e) {
