@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Wall-clock cost of one S-ODT sweep (Algorithm 1, each guard) on float and double
+// vcg meshes, next to vcglib's VertexCoordLaplacian on the same mesh for reference.
+
+#include <sodt/mesh.h>
+#include <sodt/params.h>
+#include <sodt/smoother.h>
+
+#include <vcg/complex/algorithms/smooth.h>
+#include <vcg/complex/algorithms/update/bounding.h>
+#include <vcg/complex/algorithms/update/flag.h>
+#include <vcg/complex/algorithms/update/normal.h>
+#include <vcg/complex/algorithms/update/topology.h>
+#include <vcg/complex/complex.h>
+#include <wrap/io_trimesh/import_off.h>
+#include <wrap/io_trimesh/import_ply.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#ifndef SODT_BENCH_DEFAULT_MESH
+#define SODT_BENCH_DEFAULT_MESH ""
+#endif
+#ifndef SODT_BENCH_FALLBACK_MESH
+#define SODT_BENCH_FALLBACK_MESH ""
+#endif
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+  std::string mesh;
+  int sweeps = sodt::SodtParams{}.iterations;  ///< sweeps per timed run (the paper's 20); ms/sweep = run time / sweeps
+  int repeats = 5;   ///< timed runs per method; the table shows their median
+};
+
+/// One table row.
+struct Row {
+  std::string scalar;
+  std::string method;
+  double medianMs = 0;     ///< median over repeats of (run time / sweeps)
+  double minMs = 0;        ///< fastest repeat, same unit
+  double firstCallMs = 0;  ///< one run of a single sweep: mostly set-up for the fast methods
+  std::string note;
+};
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+bool fileExists(const std::string& path) { return !path.empty() && std::ifstream(path).good(); }
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+template <class MeshType>
+bool loadMesh(MeshType& m, const std::string& path) {
+  const int err = endsWith(path, ".off") ? vcg::tri::io::ImporterOFF<MeshType>::Open(m, path.c_str())
+                                         : vcg::tri::io::ImporterPLY<MeshType>::Open(m, path.c_str());
+  if (err != 0) {
+    std::fprintf(stderr, "error: cannot read %s (vcg error %d)\n", path.c_str(), err);
+    return false;
+  }
+  vcg::tri::UpdateBounding<MeshType>::Box(m);
+  return true;
+}
+
+template <class MeshType>
+std::vector<typename MeshType::CoordType> positions(const MeshType& m) {
+  std::vector<typename MeshType::CoordType> p;
+  p.reserve(m.vert.size());
+  for (const auto& v : m.vert) p.push_back(v.cP());
+  return p;
+}
+
+template <class MeshType>
+void restore(MeshType& m, const std::vector<typename MeshType::CoordType>& p) {
+  for (std::size_t i = 0; i < p.size(); ++i) m.vert[i].P() = p[i];
+}
+
+/// Times `run(sweeps)` on the original positions `repeats` times after one
+/// untimed warm-up, then `run(1)` once. A run is a complete call as a user
+/// makes it: set-up (topology, flags), the sweeps, bounding box and normals.
+template <class MeshType, class Run>
+Row timeMethod(MeshType& m, const std::vector<typename MeshType::CoordType>& original, const Options& o,
+               Run run) {
+  Row r;
+  restore(m, original);
+  run(o.sweeps);
+  std::vector<double> perSweep;
+  for (int k = 0; k < o.repeats; ++k) {
+    restore(m, original);
+    const Clock::time_point t0 = Clock::now();
+    run(o.sweeps);
+    perSweep.push_back(msSince(t0) / o.sweeps);
+  }
+  r.medianMs = median(perSweep);
+  r.minMs = *std::min_element(perSweep.begin(), perSweep.end());
+  restore(m, original);
+  const Clock::time_point t0 = Clock::now();
+  run(1);
+  r.firstCallMs = msSince(t0);
+  restore(m, original);
+  return r;
+}
+
+template <class MeshType>
+void benchScalar(const std::string& scalar, const Options& o, std::vector<Row>& rows, int& nv, int& nf) {
+  MeshType m;
+  if (!loadMesh(m, o.mesh)) std::exit(1);
+  nv = m.vn;
+  nf = m.fn;
+  const auto original = positions(m);
+
+  for (sodt::Guard g : {sodt::Guard::Quality, sodt::Guard::Fold, sodt::Guard::None}) {
+    sodt::SodtParams p;
+    p.guard = g;
+    sodt::SodtStats full;  // counters of the last o.sweeps-sweep call
+    // Apply builds its ring topology and updates normals once per call.
+    Row r = timeMethod(m, original, o, [&](int sweeps) {
+      p.iterations = sweeps;
+      const sodt::SodtStats s = sodt::SodtSmoother<MeshType>::Apply(m, p);
+      if (sweeps == o.sweeps) full = s;
+    });
+    const double visits = std::max(1.0, double(full.activeVertices) * full.iterations);
+    char note[160];
+    std::snprintf(note, sizeof note, "of all vertex visits: %.1f%% moved (%.1f%% after backtracking), %.1f%% rejected",
+                  100.0 * (full.moved + full.backtracked) / visits, 100.0 * full.backtracked / visits,
+                  100.0 * full.rejected / visits);
+    r.scalar = scalar;
+    r.method = std::string("S-ODT Alg.1, guard ") + sodt::toString(g);
+    r.note = note;
+    rows.push_back(r);
+  }
+
+  // vcglib's umbrella Laplacian needs face-face adjacency and face border
+  // flags (border vertices then only average along the border); MeshLab's
+  // filter builds them on every call too.
+  Row r = timeMethod(m, original, o, [&](int sweeps) {
+    vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+    vcg::tri::UpdateFlags<MeshType>::FaceBorderFromFF(m);
+    vcg::tri::Smooth<MeshType>::VertexCoordLaplacian(m, sweeps);
+    vcg::tri::UpdateBounding<MeshType>::Box(m);
+    vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFace(m);
+  });
+  r.scalar = scalar;
+  r.method = "vcg VertexCoordLaplacian";
+  r.note = "reference (no tangential constraint)";
+  rows.push_back(r);
+}
+
+void usage() {
+  std::fprintf(stderr,
+               "usage: sodt_bench [MESH.ply|MESH.off] [--sweeps N] [--repeats R]\n"
+               "  default mesh: %s if it exists, else %s\n",
+               SODT_BENCH_DEFAULT_MESH, SODT_BENCH_FALLBACK_MESH);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if ((a == "--sweeps" || a == "--repeats") && i + 1 < argc) {
+      const int v = std::atoi(argv[++i]);
+      if (v < 1) {
+        usage();
+        return 2;
+      }
+      (a == "--sweeps" ? o.sweeps : o.repeats) = v;
+    } else if (a == "-h" || a == "--help") {
+      usage();
+      return 0;
+    } else if (!a.empty() && a[0] == '-') {
+      usage();
+      return 2;
+    } else {
+      o.mesh = a;
+    }
+  }
+  if (o.mesh.empty()) o.mesh = fileExists(SODT_BENCH_DEFAULT_MESH) ? SODT_BENCH_DEFAULT_MESH : SODT_BENCH_FALLBACK_MESH;
+  if (!fileExists(o.mesh)) {
+    std::fprintf(stderr, "error: mesh '%s' not found\n", o.mesh.c_str());
+    usage();
+    return 1;
+  }
+
+  std::vector<Row> rows;
+  int nv = 0, nf = 0;
+  benchScalar<sodt::MeshF>("float", o, rows, nv, nf);
+  benchScalar<sodt::MeshD>("double", o, rows, nv, nf);
+
+  const std::string name = o.mesh.substr(o.mesh.find_last_of('/') + 1);
+  std::printf("mesh %s: V=%d F=%d; ms/sweep = time of one call doing %d sweeps / %d, median and min of %d calls\n\n",
+              o.mesh.c_str(), nv, nf, o.sweeps, o.sweeps, o.repeats);
+  std::printf("| mesh | V | F | scalar | method | ms/sweep (median) | ms/sweep (min) | ms for a 1-sweep call | notes |\n");
+  std::printf("|---|---:|---:|---|---|---:|---:|---:|---|\n");
+  for (const Row& r : rows)
+    std::printf("| %s | %d | %d | %s | %s | %.2f | %.2f | %.2f | %s |\n", name.c_str(), nv, nf, r.scalar.c_str(),
+                r.method.c_str(), r.medianMs, r.minMs, r.firstCallMs, r.note.c_str());
+  return 0;
+}
