@@ -26,12 +26,32 @@ inline double angleBetween(const Vec3& u, const Vec3& v) {
   return std::atan2((u ^ v).Norm(), u * v);
 }
 
-/// Smallest of the three interior angles of triangle (a, b, c), in radians.
+/// Smallest of the three interior angles of triangle (a, b, c), in radians:
+/// the angle opposite the shortest edge (law of sines), one atan2 only.
 inline double triangleMinAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double aa = angleBetween(b - a, c - a);
-  const double ab = angleBetween(c - b, a - b);
-  const double ac = kPi - aa - ab;  // exact sum keeps the three consistent
-  return std::min(std::min(aa, ab), std::max(ac, 0.0));
+  const double ab = (b - a).SquaredNorm(), bc = (c - b).SquaredNorm(), ca = (a - c).SquaredNorm();
+  if (bc <= ab && bc <= ca) return angleBetween(b - a, c - a);
+  if (ca <= ab) return angleBetween(c - b, a - b);
+  return angleBetween(a - c, b - c);
+}
+
+/// Squared cosine of the smallest interior angle of triangle (a, b, c): a
+/// trigonometry-free quality measure that decreases as that angle grows
+/// (the smallest angle is at most 60 degrees, so its cosine is positive).
+/// A triangle with a zero-length edge gets 1 (angle 0).
+inline double triangleMinAngleCos2(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double ab = (b - a).SquaredNorm(), bc = (c - b).SquaredNorm(), ca = (a - c).SquaredNorm();
+  double dot, l1, l2;  // the corner opposite the shortest edge, and its two edges
+  if (bc <= ab && bc <= ca) {
+    dot = (b - a) * (c - a), l1 = ab, l2 = ca;
+  } else if (ca <= ab) {
+    dot = (c - b) * (a - b), l1 = bc, l2 = ab;
+  } else {
+    dot = (a - c) * (b - c), l1 = ca, l2 = bc;
+  }
+  const double den = l1 * l2;
+  if (!(den > 0)) return 1.0;
+  return dot <= 0 ? 0.0 : std::min(1.0, dot * dot / den);
 }
 
 /// Fills s and t so that (s, t, n) is a right-handed orthonormal frame.

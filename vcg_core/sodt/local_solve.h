@@ -130,6 +130,22 @@ inline double starMinAngle(const Star& st, const Vec3& p) {
   return m;
 }
 
+/// Squared cosine of the smallest angle over the star's triangles with the
+/// centre at p (see triangleMinAngleCos2); larger means worse.
+inline double starMinAngleCos2(const Star& st, const Vec3& p) {
+  double c = 0;
+  for (std::size_t k = 0; k < st.size(); ++k) c = std::max(c, triangleMinAngleCos2(p, st.at(k), st.at(k + 1)));
+  return c;
+}
+
+/// True when, with the centre at p, no triangle of the star has a smaller
+/// smallest angle than the one whose squared cosine is cos2Limit.
+inline bool starKeepsMinAngle(const Star& st, const Vec3& p, double cos2Limit) {
+  for (std::size_t k = 0; k < st.size(); ++k)
+    if (triangleMinAngleCos2(p, st.at(k), st.at(k + 1)) > cos2Limit) return false;
+  return true;
+}
+
 /// True when moving the centre from st.center to p flips or collapses a
 /// triangle of the star. A triangle collapses when its area falls to rounding
 /// level relative to its longest edge; it flips when its area vector turns

@@ -121,14 +121,14 @@ struct SodtSmoother {
   /// under the guard. Returns the number of halvings used, -1 when every
   /// length was vetoed, -2 when the step rounds to no move at all.
   static int tryStep(const Star& star, const Vec3& target, const Vec3& n, const SodtParams& p,
-                     double minAngleBefore, Vec3& x) {
+                     double minAngleCos2Before, Vec3& x) {
     const Vec3 step = target - star.center;
     double f = 1.0;
     for (int j = 0; j <= p.maxBacktracks; ++j, f *= 0.5) {
       const Vec3 y = representable(star.center + step * f);
       if (y == x) return j == 0 ? -2 : -1;  // shorter steps round to nothing as well
       if (moveFolds(star, y, n)) continue;
-      if (p.guard == Guard::Quality && starMinAngle(star, y) < minAngleBefore) continue;
+      if (p.guard == Guard::Quality && !starKeepsMinAngle(star, y, minAngleCos2Before)) continue;
       x = y;
       return j;
     }
@@ -152,7 +152,7 @@ struct SodtSmoother {
       }
       return;
     }
-    const double before = p.guard == Guard::Quality ? starMinAngle(star, star.center) : 0.0;
+    const double before = p.guard == Guard::Quality ? starMinAngleCos2(star, star.center) : 1.0;
     const int r = tryStep(star, mv.target, mv.normal, p, before, x);
     if (r == 0) {
       ++stats.moved;

@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Mesh file I/O for the CLI, the tests and the benchmarks: PLY and OFF by
+// extension, strict input checks, and output files replaced atomically.
+#pragma once
+
+#include "mesh.h"
+#include "params.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace sodt {
+
+/// Thrown when an output file cannot be written. Reading errors throw
+/// InvalidInput instead (see loadMesh).
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Mesh file formats the project reads and writes.
+enum class MeshFormat { Ply, Off };
+
+/// Format of a path from its extension, case-insensitive (.ply, .off).
+/// \throw InvalidInput naming the path for any other extension; .obj gets
+///        "OBJ is not supported; convert to PLY or OFF".
+MeshFormat meshFormatFromPath(const std::string& path);
+
+/// What saveMesh writes besides positions and triangles.
+struct SaveOptions {
+  bool binary = true;            ///< PLY only: binary little-endian instead of ASCII
+  bool vertexQuality = false;    ///< PLY only: per-vertex "quality" (float)
+  bool vertexColor = false;      ///< per-vertex RGBA colour
+  bool vertexSelection = false;  ///< PLY only: per-vertex "flags" holding only the selection bit
+  bool verify = true;            ///< read the written file back and compare counts before committing
+};
+
+/// What loadMesh found in the file besides positions and triangles.
+struct LoadInfo {
+  bool vertexQuality = false;    ///< the file has per-vertex quality
+  bool vertexColor = false;      ///< the file has per-vertex colour
+  bool vertexSelection = false;  ///< the file has per-vertex flags (PLY "flags")
+  long long selectedVertices = 0;  ///< vertices whose selection bit is set
+  bool polygons = false;         ///< faces with more than three corners were fan-triangulated
+};
+
+/// Reads a triangle mesh from a .ply or .off file into m (m is cleared first).
+///
+/// PLY is read with vcglib's importer; polygons are fan-triangulated. Per-vertex
+/// quality and colour are read when present; of a PLY "flags" property only
+/// the selection bit is kept, so a file saved with selection flags (MeshLab
+/// "flags" option) drives SodtParams::selectedOnly. OFF is read by a strict
+/// parser of this file (vcglib 2020.09's OFF importer does not range-check
+/// face indices); N/C/ST prefixes are accepted and their extra values ignored,
+/// polygons are fan-triangulated. A file with vertices but no faces loads
+/// fine (callers decide whether that is an error). On return the mesh is
+/// compact, its bounding box and normals are up to date.
+///
+/// \throw InvalidInput with a one-line message naming the file: missing or
+///        unreadable file, unsupported extension (OBJ included), parse error
+///        (with vcglib's error string for PLY), a face index out of range, or
+///        a non-finite coordinate (naming the vertex index).
+/// \param info when not null, receives what the file carried besides geometry.
+void loadMesh(const std::string& path, MeshD& m, LoadInfo* info = nullptr);
+/// Single-precision overload of loadMesh(const std::string&, MeshD&, LoadInfo*).
+void loadMesh(const std::string& path, MeshF& m, LoadInfo* info = nullptr);
+
+/// A file that is written under a temporary name in the target's directory
+/// and renamed over the target by commit(). Destroying it without commit()
+/// removes the temporary file, so the target is either the old file or the
+/// complete new one, never a partial write. When the target already exists
+/// its permission bits are kept; a symbolic link target is followed.
+class PendingFile {
+ public:
+  /// Creates the temporary file (empty). \throw IoError naming the target.
+  explicit PendingFile(const std::string& target);
+  ~PendingFile();
+  PendingFile(const PendingFile&) = delete;
+  PendingFile& operator=(const PendingFile&) = delete;
+
+  /// Path the caller writes to before commit().
+  const std::string& tempPath() const { return temp_; }
+  /// Path given to the constructor.
+  const std::string& target() const { return target_; }
+  /// Flushes the temporary file to disk and renames it over the target.
+  /// \throw IoError naming the target; the temporary file is removed then.
+  void commit();
+
+ private:
+  std::string target_;    ///< as given
+  std::string resolved_;  ///< target with a final symbolic link followed
+  std::string temp_;
+  bool committed_ = false;
+};
+
+/// Writes m into out.tempPath() in the format of out.target()'s extension,
+/// without committing. Deleted elements are skipped.
+/// \throw InvalidInput for an unsupported extension, IoError if writing fails.
+void saveMesh(PendingFile& out, const MeshD& m, const SaveOptions& opt = SaveOptions());
+/// Single-precision overload of saveMesh(PendingFile&, const MeshD&, const SaveOptions&).
+void saveMesh(PendingFile& out, const MeshF& m, const SaveOptions& opt = SaveOptions());
+
+/// Writes m to path (format by extension) atomically: a failure leaves an
+/// existing file at path untouched and creates nothing.
+/// \throw InvalidInput for an unsupported extension, IoError if writing fails.
+void saveMesh(const std::string& path, const MeshD& m, const SaveOptions& opt = SaveOptions());
+/// Single-precision overload of saveMesh(const std::string&, const MeshD&, const SaveOptions&).
+void saveMesh(const std::string& path, const MeshF& m, const SaveOptions& opt = SaveOptions());
+
+/// Writes text into out.tempPath() without committing. \throw IoError.
+void writeText(PendingFile& out, const std::string& text);
+
+/// Writes text to path atomically (see PendingFile). \throw IoError.
+void writeTextFile(const std::string& path, const std::string& text);
+
+}  // namespace sodt
