@@ -265,12 +265,12 @@ void loadOff(const std::string& path, M& m, LoadInfo& info) {
 
 /// Rejects headers whose element counts cannot fit in the file, before
 /// vcglib allocates them.
-void checkPlyHeader(const std::string& path) {
+void checkPlyHeader(const std::string& file, const std::string& path) {
   vcg::ply::PlyFile pf;
-  if (pf.Open(path.c_str(), vcg::ply::PlyFile::MODE_READ) == -1)
+  if (pf.Open(file.c_str(), vcg::ply::PlyFile::MODE_READ) == -1)
     throw InvalidInput(quoted(path) + ": PLY parse error: " +
                        vcg::tri::io::ImporterPLY<MeshD>::ErrorMsg(pf.GetError()));
-  const long long size = fileSize(path);
+  const long long size = fileSize(file);
   long long need = 0;
   for (const auto& e : pf.elements) {
     if (e.number < 0)
@@ -282,12 +282,64 @@ void checkPlyHeader(const std::string& path) {
   }
 }
 
+/// A file removed when this goes out of scope.
+struct ScratchFile {
+  std::string path;
+  ~ScratchFile() {
+    if (!path.empty()) ::unlink(path.c_str());
+  }
+};
+
+/// vcglib 2020.09 reads PLY header lines into a 512-byte buffer, so a long
+/// comment (metadata as JSON, say) breaks an otherwise valid header. When
+/// path has such comment or obj_info lines, writes a copy with them
+/// shortened into scratch and returns its path; otherwise returns path.
+std::string plyWithShortComments(const std::string& path, ScratchFile& scratch) {
+  const std::size_t kMaxLine = 500;  // below vcglib's limit, with room for "\r\n"
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::string> header;
+  bool tooLong = false, complete = false;
+  std::string line;
+  while (header.size() < 100000 && std::getline(in, line)) {
+    const std::string word = line.substr(0, line.find_first_of(" \t\r"));
+    if (line.size() > kMaxLine) {
+      if (word != "comment" && word != "obj_info") return path;  // let vcglib report it
+      tooLong = true;
+      line.resize(kMaxLine - 100);
+    }
+    header.push_back(line);
+    if (word == "end_header") {
+      complete = true;
+      break;
+    }
+  }
+  if (!tooLong || !complete) return path;
+  const char* tmp = std::getenv("TMPDIR");
+  std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/sodt_ply_XXXXXX";
+  std::vector<char> name(templ.begin(), templ.end());
+  name.push_back('\0');
+  const int fd = ::mkstemp(name.data());
+  if (fd < 0) return path;
+  ::close(fd);
+  scratch.path = name.data();
+  std::ofstream out(scratch.path, std::ios::binary | std::ios::trunc);
+  for (const std::string& h : header) out << h << '\n';
+  out << in.rdbuf();  // the body, unchanged
+  out.close();
+  if (!out)
+    throw InvalidInput(quoted(path) + ": cannot copy it to " + quoted(scratch.path) +
+                       " to shorten its long header comments");
+  return scratch.path;
+}
+
 template <class M>
 void loadPly(const std::string& path, M& m, LoadInfo& info) {
-  checkPlyHeader(path);
+  ScratchFile scratch;
+  const std::string file = plyWithShortComments(path, scratch);
+  checkPlyHeader(file, path);
   using Importer = vcg::tri::io::ImporterPLY<M>;
   int mask = 0;
-  const int err = Importer::Open(m, path.c_str(), mask);
+  const int err = Importer::Open(m, file.c_str(), mask);
   if (Importer::ErrorCritical(err))
     throw InvalidInput(quoted(path) + ": PLY parse error: " + Importer::ErrorMsg(err));
   // vcglib range-checks only some corners of triangulated polygons.
@@ -505,6 +557,8 @@ PendingFile::PendingFile(const std::string& target) : target_(target), resolved_
   }
   const bool exists = ::stat(resolved_.c_str(), &st) == 0;
   if (exists && S_ISDIR(st.st_mode)) throw IoError("cannot write " + quoted(target) + ": is a directory");
+  // rename() would replace a read-only file too; keep its protection.
+  if (exists && ::access(resolved_.c_str(), W_OK) != 0) throwErrno("cannot write " + quoted(target));
   const std::size_t slash = resolved_.find_last_of('/');
   const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : resolved_.substr(0, slash));
   const std::string base = slash == std::string::npos ? resolved_ : resolved_.substr(slash + 1);

@@ -51,10 +51,11 @@ struct LoadInfo {
 /// the selection bit is kept, so a file saved with selection flags (MeshLab
 /// "flags" option) drives SodtParams::selectedOnly. OFF is read by a strict
 /// parser of this file (vcglib 2020.09's OFF importer does not range-check
-/// face indices); N/C/ST prefixes are accepted and their extra values ignored,
-/// polygons are fan-triangulated. A file with vertices but no faces loads
-/// fine (callers decide whether that is an error). On return the mesh is
-/// compact, its bounding box and normals are up to date.
+/// face indices); N/C/ST prefixes are accepted, COFF vertex colours (3 or 4
+/// values, 0..255 or 0..1) are read, normals, texture coordinates and face
+/// colours are skipped, polygons are fan-triangulated. A file with vertices
+/// but no faces loads fine (callers decide whether that is an error). On
+/// return the mesh is compact, its bounding box and normals are up to date.
 ///
 /// \throw InvalidInput with a one-line message naming the file: missing or
 ///        unreadable file, unsupported extension (OBJ included), parse error
@@ -68,8 +69,9 @@ void loadMesh(const std::string& path, MeshF& m, LoadInfo* info = nullptr);
 /// A file that is written under a temporary name in the target's directory
 /// and renamed over the target by commit(). Destroying it without commit()
 /// removes the temporary file, so the target is either the old file or the
-/// complete new one, never a partial write. When the target already exists
-/// its permission bits are kept; a symbolic link target is followed.
+/// complete new one, never a partial write. The target is replaced, not
+/// rewritten in place: an existing target must be writable, its permission
+/// bits are kept (not its owner or hard links); a symbolic link is followed.
 class PendingFile {
  public:
   /// Creates the temporary file (empty). \throw IoError naming the target.

@@ -1,0 +1,748 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Command-line front end: `sodt smooth` runs the S-ODT smoother on a PLY/OFF
+// file, `sodt stats` measures a mesh; summaries on stdout, JSON reports, exit codes.
+#include <sodt/io.h>
+#include <sodt/json.h>
+#include <sodt/mesh.h>
+#include <sodt/metrics.h>
+#include <sodt/params.h>
+#include <sodt/smoother.h>
+
+#include <vcg/complex/append.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <limits>
+#include <chrono>
+#include <climits>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <vector>
+
+#ifndef SODT_VERSION
+#define SODT_VERSION "unknown"
+#endif
+
+namespace {
+
+using sodt::MeshD;
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+/// A bad command line: exit status 2 and a pointer to the help.
+class UsageError : public std::runtime_error {
+ public:
+  UsageError(const std::string& msg, const std::string& helpCmd)
+      : std::runtime_error(msg), helpCommand(helpCmd) {}
+  std::string helpCommand;  ///< e.g. "sodt smooth --help"
+};
+
+// ---------------------------------------------------------------------------
+// Interruption and progress on stderr
+
+// Temporary output files, removed by the signal handler: an interrupted run
+// leaves OUT and the report as they were. Fixed storage, no allocation in
+// the handler.
+constexpr int kMaxTemps = 4;
+constexpr std::size_t kTempPathMax = 4096;
+char gTempPath[kMaxTemps][kTempPathMax];
+volatile std::sig_atomic_t gTempActive[kMaxTemps];
+
+/// Lets the signal handler remove f's temporary file (until the process ends).
+void trackTemporary(const sodt::PendingFile& f) {
+  const std::string& p = f.tempPath();
+  if (p.size() >= kTempPathMax) return;
+  for (int i = 0; i < kMaxTemps; ++i)
+    if (!gTempActive[i]) {
+      std::memcpy(gTempPath[i], p.c_str(), p.size() + 1);
+      std::atomic_signal_fence(std::memory_order_seq_cst);  // path complete before the flag
+      gTempActive[i] = 1;
+      return;
+    }
+}
+
+/// SIGINT/SIGTERM/SIGHUP: remove the temporary files, then die of the signal.
+extern "C" void onSignal(int sig) {
+  for (int i = 0; i < kMaxTemps; ++i)
+    if (gTempActive[i]) ::unlink(gTempPath[i]);
+  static const char msg[] = "\nsodt: interrupted\n";
+  const ssize_t n = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+  (void)n;
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+/// One status line on stderr, redrawn with '\r'; only used on a terminal.
+struct StatusLine {
+  bool enabled = false;
+  bool open = false;
+  std::size_t width = 0;
+  std::string last;
+
+  void draw(const std::string& text) {
+    if (!enabled || (open && text == last)) return;
+    std::string s = "\r" + text;
+    if (text.size() < width) s.append(width - text.size(), ' ');
+    std::fputs(s.c_str(), stderr);
+    std::fflush(stderr);
+    width = std::max(width, text.size());
+    last = text;
+    open = true;
+  }
+  /// Keeps the line (newline) or wipes it.
+  void end(bool keep) {
+    if (!open) return;
+    if (keep)
+      std::fputc('\n', stderr);
+    else
+      std::fprintf(stderr, "\r%*s\r", static_cast<int>(width), "");
+    std::fflush(stderr);
+    open = false;
+    width = 0;
+    last.clear();
+  }
+};
+
+StatusLine gStatus;
+
+/// vcg::CallBackPos for the smoother: draws "[#####     ] 45% S-ODT sweep 9/20".
+bool progressCallback(const int pos, const char* msg) {
+  if (gStatus.enabled) {
+    const int pct = std::min(100, std::max(0, pos));
+    const int barWidth = 20;
+    const int filled = pct * barWidth / 100;
+    char head[64];
+    std::snprintf(head, sizeof head, "] %3d%% ", pct);
+    gStatus.draw("[" + std::string(filled, '#') + std::string(barWidth - filled, ' ') + head + (msg ? msg : ""));
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// Command-line parsing
+
+/// One option of a subcommand.
+struct OptionSpec {
+  const char* name;  ///< "--iterations"
+  bool takesValue;
+};
+
+/// Options and positionals of one subcommand invocation.
+struct ParsedArgs {
+  bool help = false;
+  std::vector<std::string> positionals;
+  std::vector<std::pair<std::string, std::string>> options;  ///< name, value ("" for flags)
+};
+
+/// Splits args into known options (--name VALUE or --name=VALUE) and
+/// positionals; "--" ends the options. Stops at -h/--help.
+ParsedArgs parseArgs(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs,
+                     const std::string& helpCmd) {
+  ParsedArgs r;
+  bool optionsEnded = false;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (optionsEnded || a.size() < 2 || a[0] != '-') {
+      r.positionals.push_back(a);
+      continue;
+    }
+    if (a == "--") {
+      optionsEnded = true;
+      continue;
+    }
+    if (a == "-h" || a == "--help") {
+      r.help = true;
+      return r;
+    }
+    std::string name = a, value;
+    bool inlineValue = false;
+    const std::size_t eq = a.find('=');
+    if (a.compare(0, 2, "--") == 0 && eq != std::string::npos) {
+      name = a.substr(0, eq);
+      value = a.substr(eq + 1);
+      inlineValue = true;
+    }
+    const OptionSpec* spec = nullptr;
+    for (const OptionSpec& s : specs)
+      if (name == s.name) spec = &s;
+    if (spec == nullptr) throw UsageError("unknown option '" + name + "'", helpCmd);
+    if (spec->takesValue) {
+      if (!inlineValue) {
+        if (i + 1 >= args.size()) throw UsageError("option '" + name + "' needs a value", helpCmd);
+        value = args[++i];
+      }
+    } else if (inlineValue) {
+      throw UsageError("option '" + name + "' takes no value", helpCmd);
+    }
+    r.options.emplace_back(name, value);
+  }
+  return r;
+}
+
+/// Parses a whole decimal int; range checks are left to SodtParams::validate().
+int parseIntValue(const std::string& option, const std::string& s, const std::string& helpCmd) {
+  std::size_t i = (!s.empty() && (s[0] == '-' || s[0] == '+')) ? 1 : 0;
+  bool digits = i < s.size();
+  for (std::size_t k = i; k < s.size(); ++k) digits = digits && s[k] >= '0' && s[k] <= '9';
+  if (!digits) throw UsageError("option '" + option + "' needs an integer, got '" + s + "'", helpCmd);
+  errno = 0;
+  const long long v = std::strtoll(s.c_str(), nullptr, 10);
+  if (errno == ERANGE || v < INT_MIN || v > INT_MAX)
+    throw UsageError("option '" + option + "': " + s + " is out of range", helpCmd);
+  return static_cast<int>(v);
+}
+
+/// Path with symbolic links and "." / ".." resolved as far as it exists.
+std::string canonicalPath(const std::string& p) {
+  if (char* r = ::realpath(p.c_str(), nullptr)) {
+    std::string s(r);
+    std::free(r);
+    return s;
+  }
+  const std::size_t slash = p.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : p.substr(0, slash));
+  const std::string base = slash == std::string::npos ? p : p.substr(slash + 1);
+  if (char* r = ::realpath(dir.c_str(), nullptr)) {
+    std::string s(r);
+    std::free(r);
+    return s + "/" + base;
+  }
+  return p;
+}
+
+bool samePath(const std::string& a, const std::string& b) { return canonicalPath(a) == canonicalPath(b); }
+
+std::string baseName(const std::string& p) {
+  const std::size_t slash = p.find_last_of('/');
+  return slash == std::string::npos ? p : p.substr(slash + 1);
+}
+
+// ---------------------------------------------------------------------------
+// Help
+
+void printMainHelp() {
+  std::printf(
+      "usage: sodt <command> [options]\n"
+      "       sodt --help | --version\n"
+      "\n"
+      "S-ODT surface mesh smoothing: moves every interior vertex in its tangent plane to\n"
+      "the closed-form minimiser of the suboptimal Delaunay triangulation energy, which\n"
+      "improves triangle angles while keeping the surface (paper Algorithm 1).\n"
+      "\n"
+      "commands:\n"
+      "  smooth IN OUT   smooth the triangle mesh IN and write it to OUT\n"
+      "  stats IN        print quality measures of IN as JSON\n"
+      "\n"
+      "Mesh files are PLY or OFF, chosen by extension (case-insensitive); OBJ is not\n"
+      "supported. Polygons are fan-triangulated on input.\n"
+      "Run 'sodt smooth --help' or 'sodt stats --help' for the options.\n"
+      "\n"
+      "exit status: 0 success, 1 unreadable or invalid input or I/O failure,\n"
+      "             2 bad command line. Output files are replaced only at the very\n"
+      "             end of a successful run, never partially written.\n");
+}
+
+void printSmoothHelp() {
+  const sodt::SodtParams d;
+  std::printf(
+      "usage: sodt smooth IN OUT [options]\n"
+      "\n"
+      "Smooths the triangle mesh IN with S-ODT and writes the result to OUT (PLY or\n"
+      "OFF by OUT's extension; PLY is written binary). Border and non-manifold\n"
+      "vertices stay fixed. OUT keeps the per-vertex quality, colour and selection\n"
+      "flags found in IN (PLY; OFF keeps colour only). OUT and the report are written\n"
+      "under temporary names and renamed at the very end, so a failed or interrupted\n"
+      "run leaves them as they were; OUT may be IN itself.\n"
+      "\n"
+      "options (defaults are those of the library, sodt::SodtParams):\n"
+      "  --algorithm NAME      vertex update: basic (default %s)\n"
+      "  --iterations N        Gauss-Seidel sweeps, 0..100000 (default %d)\n"
+      "  --guard G             safeguard on every move (default %s):\n"
+      "                          none     commit every solved move (the paper as written)\n"
+      "                          fold     reject moves that flip or collapse a triangle\n"
+      "                          quality  fold, and the smallest angle around the vertex\n"
+      "                                   may not decrease\n"
+      "  --max-backtracks N    halvings of a rejected step before the vertex is kept,\n"
+      "                        0..60 (default %d)\n"
+      "  --laplacian-fallback on|off\n"
+      "                        when the guard vetoes the S-ODT step, try the tangential\n"
+      "                        Laplacian step under the same guard (default %s;\n"
+      "                        not used with --guard none)\n"
+      "  --selected-only       move only selected vertices. The selection is read from\n"
+      "                        the PLY per-vertex 'flags' property (MeshLab: export with\n"
+      "                        'Flags' ticked); plain PLY and OFF files select nothing,\n"
+      "                        which is an error\n"
+      "  --report FILE.json    write measures before/after, distances and counters as JSON\n"
+      "  --quiet               no summary on stdout and no progress bar\n"
+      "  -h, --help            show this help\n"
+      "\n"
+      "The progress bar is drawn on stderr only when stderr is a terminal.\n",
+      sodt::toString(d.algorithm), d.iterations, sodt::toString(d.guard), d.maxBacktracks,
+      d.laplacianFallback ? "on" : "off");
+}
+
+void printStatsHelp() {
+  std::printf(
+      "usage: sodt stats IN [--reference REF] [--json FILE]\n"
+      "\n"
+      "Prints as JSON: vertices, faces, closed, min_angle, max_angle, angle_histogram\n"
+      "(180 one-degree bins of all corner angles), frac_below_30, frac_above_90,\n"
+      "p1_tri_min_angle (1st percentile of the per-triangle smallest angle) and volume\n"
+      "(null when the mesh is not closed and consistently oriented).\n"
+      "\n"
+      "options:\n"
+      "  --reference REF   also hausdorff_rel and mean_distance_rel (sampled surface\n"
+      "                    distances relative to REF's bounding-box diagonal) and\n"
+      "                    inverted_faces (faces turned by more than 90 degrees against\n"
+      "                    REF; null unless REF has the same vertices and faces)\n"
+      "  --json FILE       write the JSON to FILE instead of stdout\n"
+      "  -h, --help        show this help\n");
+}
+
+// ---------------------------------------------------------------------------
+// Measuring
+
+/// Quality measures of one mesh state.
+struct Measures {
+  sodt::AngleStats angles;
+  sodt::VolumeResult volume;
+};
+
+Measures measure(const MeshD& m) {
+  Measures r;
+  r.angles = sodt::computeAngleStats(m);
+  r.volume = sodt::enclosedVolume(m);
+  return r;
+}
+
+/// Writes the members of one measures object (inside an open object).
+void writeMeasures(sodt::JsonWriter& j, const Measures& s) {
+  j.member("closed", s.volume.closed);
+  j.member("min_angle", s.angles.minDeg);
+  j.member("max_angle", s.angles.maxDeg);
+  j.member("angle_histogram", s.angles.histogram);
+  j.member("frac_below_30", s.angles.fracBelow30);
+  j.member("frac_above_90", s.angles.fracAbove90);
+  j.member("p1_tri_min_angle", s.angles.p1TriMinDeg);
+  if (s.volume.closed)
+    j.member("volume", s.volume.volume);
+  else
+    j.memberNull("volume");
+}
+
+/// Loads a mesh for a subcommand, with the status line, and rejects meshes
+/// without triangles.
+void loadInput(const std::string& path, MeshD& m, sodt::LoadInfo* info) {
+  gStatus.draw("loading " + baseName(path) + "...");
+  sodt::loadMesh(path, m, info);
+  gStatus.end(false);
+  if (m.fn == 0) throw sodt::InvalidInput("'" + path + "': no triangles");
+}
+
+/// Surface distance of a mesh to a reference, relative to the reference's
+/// bounding-box diagonal.
+struct Distance {
+  double hausdorff = 0;    ///< symmetric Hausdorff (or its lower bound)
+  double mean = 0;         ///< mean two-sided distance (NaN with a lower bound)
+  bool lowerBound = false; ///< the mesh left the reference's neighbourhood: vertices only
+};
+
+/// Samples both surfaces (sodt::surfaceDistance) unless a vertex of m lies
+/// more than one diagonal outside ref's bounding box, as after a diverged
+/// unguarded run: then sampling says nothing more and can take very long,
+/// and the vertex distance to the box is reported as a lower bound.
+Distance distanceTo(const MeshD& m, const MeshD& ref) {
+  vcg::Box3d box;
+  for (const auto& v : ref.vert)
+    if (!v.IsD()) box.Add(v.cP());
+  const double diag = box.Diag();
+  double far = 0;
+  for (const auto& v : m.vert) {
+    if (v.IsD()) continue;
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double e = std::max({box.min[k] - v.cP()[k], 0.0, v.cP()[k] - box.max[k]});
+      d2 += e * e;
+    }
+    far = std::max(far, std::sqrt(d2));
+  }
+  Distance r;
+  if (diag > 0 && far > diag) {
+    r.hausdorff = far / diag;
+    r.mean = std::numeric_limits<double>::quiet_NaN();
+    r.lowerBound = true;
+    return r;
+  }
+  const sodt::DistanceStats d = sodt::surfaceDistance(m, ref);
+  r.hausdorff = d.maxRel;
+  r.mean = d.meanRel;
+  return r;
+}
+
+/// Writes hausdorff_rel, mean_distance_rel (null when unknown) and hausdorff_is_lower_bound.
+void writeDistance(sodt::JsonWriter& j, const Distance& d) {
+  j.member("hausdorff_rel", d.hausdorff);
+  j.member("mean_distance_rel", d.mean);
+  j.member("hausdorff_is_lower_bound", d.lowerBound);
+}
+
+// ---------------------------------------------------------------------------
+// sodt smooth
+
+struct SmoothOptions {
+  std::string in, out, report;
+  sodt::SodtParams params;
+  bool quiet = false;
+};
+
+const char* const kSmoothHelp = "sodt smooth --help";
+
+/// Returns false when the help was printed.
+bool parseSmooth(const std::vector<std::string>& args, SmoothOptions& o) {
+  static const std::vector<OptionSpec> specs = {
+      {"--algorithm", true}, {"--iterations", true}, {"--guard", true},  {"--max-backtracks", true},
+      {"--laplacian-fallback", true}, {"--selected-only", false}, {"--report", true}, {"--quiet", false}};
+  const ParsedArgs a = parseArgs(args, specs, kSmoothHelp);
+  if (a.help) {
+    printSmoothHelp();
+    return false;
+  }
+  for (const auto& kv : a.options) {
+    const std::string& name = kv.first;
+    const std::string& v = kv.second;
+    try {
+      if (name == "--algorithm") {
+        o.params.algorithm = sodt::algorithmFromString(v);
+      } else if (name == "--iterations") {
+        o.params.iterations = parseIntValue(name, v, kSmoothHelp);
+      } else if (name == "--guard") {
+        o.params.guard = sodt::guardFromString(v);
+      } else if (name == "--max-backtracks") {
+        o.params.maxBacktracks = parseIntValue(name, v, kSmoothHelp);
+      } else if (name == "--laplacian-fallback") {
+        if (v != "on" && v != "off")
+          throw UsageError("option '--laplacian-fallback' takes on or off, got '" + v + "'", kSmoothHelp);
+        o.params.laplacianFallback = v == "on";
+      } else if (name == "--selected-only") {
+        o.params.selectedOnly = true;
+      } else if (name == "--report") {
+        if (v.empty()) throw UsageError("option '--report' needs a file name", kSmoothHelp);
+        o.report = v;
+      } else if (name == "--quiet") {
+        o.quiet = true;
+      }
+    } catch (const sodt::InvalidInput& e) {
+      throw UsageError("option '" + name + "': " + e.what(), kSmoothHelp);
+    }
+  }
+  if (a.positionals.size() != 2)
+    throw UsageError("'sodt smooth' needs an input and an output file, got " +
+                         std::to_string(a.positionals.size()) + " file argument" +
+                         (a.positionals.size() == 1 ? "" : "s"),
+                     kSmoothHelp);
+  o.in = a.positionals[0];
+  o.out = a.positionals[1];
+  try {
+    o.params.validate();
+  } catch (const sodt::InvalidInput& e) {
+    throw UsageError(e.what(), kSmoothHelp);
+  }
+  try {
+    sodt::meshFormatFromPath(o.out);
+  } catch (const sodt::InvalidInput& e) {
+    throw UsageError(std::string("output ") + e.what(), kSmoothHelp);
+  }
+  if (!o.report.empty()) {
+    if (samePath(o.report, o.out)) throw UsageError("--report and OUT are the same file", kSmoothHelp);
+    if (samePath(o.report, o.in)) throw UsageError("--report would overwrite the input", kSmoothHelp);
+  }
+  return true;
+}
+
+std::string percent(double frac) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2f%%", 100.0 * frac);
+  return b;
+}
+
+void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const Measures& before, const Measures& after,
+                        const Distance& dist, long long inverted, const sodt::SodtStats& st,
+                        double seconds) {
+  std::printf("sodt smooth: %s -> %s\n", o.in.c_str(), o.out.c_str());
+  std::printf("  mesh           %d vertices, %d triangles, %s\n", m.vn, m.fn,
+              before.volume.closed ? "closed" : "open or not consistently oriented");
+  std::printf("  min angle      %.3f -> %.3f deg\n", before.angles.minDeg, after.angles.minDeg);
+  std::printf("  max angle      %.3f -> %.3f deg\n", before.angles.maxDeg, after.angles.maxDeg);
+  std::printf("  angles < 30    %s -> %s\n", percent(before.angles.fracBelow30).c_str(),
+              percent(after.angles.fracBelow30).c_str());
+  std::printf("  angles > 90    %s -> %s\n", percent(before.angles.fracAbove90).c_str(),
+              percent(after.angles.fracAbove90).c_str());
+  std::printf("  p1 tri min     %.3f -> %.3f deg\n", before.angles.p1TriMinDeg, after.angles.p1TriMinDeg);
+  if (before.volume.closed && after.volume.closed) {
+    const double rel = before.volume.volume != 0
+                           ? (after.volume.volume - before.volume.volume) / std::fabs(before.volume.volume)
+                           : 0.0;
+    std::printf("  volume         %.10g -> %.10g (relative change %+.3e)\n", before.volume.volume,
+                after.volume.volume, rel);
+  } else {
+    std::printf("  volume         n/a (mesh not closed)\n");
+  }
+  if (dist.lowerBound)
+    std::printf("  distance       Hausdorff >= %.3e of the input's bbox diagonal (the output left the input's box)\n",
+                dist.hausdorff);
+  else
+    std::printf("  distance       Hausdorff %.3e, mean %.3e (relative to the input's bbox diagonal)\n",
+                dist.hausdorff, dist.mean);
+  std::printf("  inverted       %lld faces turned by more than 90 deg\n", inverted);
+  std::printf("  vertex visits  moved %lld, backtracked %lld, Laplacian fallback %lld, rejected %lld, failed %lld, "
+              "unchanged %lld\n",
+              st.moved, st.backtracked, st.fallbackMoves, st.rejected, st.failedSolves, st.unchanged);
+  std::printf("  fixed          %d boundary, %d non-manifold; %d vertices active\n", st.fixedBoundary,
+              st.fixedNonManifold, st.activeVertices);
+  std::printf("  smoothing      %.3f s for %d sweeps (algorithm %s, guard %s, max backtracks %d)\n", seconds,
+              st.iterations, sodt::toString(o.params.algorithm), sodt::toString(o.params.guard),
+              o.params.maxBacktracks);
+}
+
+std::string smoothReport(const SmoothOptions& o, const MeshD& m, const Measures& before, const Measures& after,
+                         const Distance& dist, long long inverted, const sodt::SodtStats& st,
+                         double seconds) {
+  sodt::JsonWriter j;
+  j.beginObject();
+  j.member("sodt_version", SODT_VERSION);
+  j.member("input", o.in);
+  j.member("output", o.out);
+  j.member("vertices", m.vn);
+  j.member("faces", m.fn);
+  j.member("algorithm", sodt::toString(o.params.algorithm));
+  j.member("guard", sodt::toString(o.params.guard));
+  j.member("iterations", o.params.iterations);
+  j.member("max_backtracks", o.params.maxBacktracks);
+  j.member("laplacian_fallback", o.params.laplacianFallback);
+  j.member("selected_only", o.params.selectedOnly);
+  j.member("sweeps", st.iterations);
+  j.member("seconds", seconds);
+  j.member("min_angle_before", before.angles.minDeg);
+  j.member("min_angle_after", after.angles.minDeg);
+  j.member("max_angle_before", before.angles.maxDeg);
+  j.member("max_angle_after", after.angles.maxDeg);
+  const bool closed = before.volume.closed && after.volume.closed;
+  if (closed) {
+    j.member("volume_before", before.volume.volume);
+    j.member("volume_after", after.volume.volume);
+    if (before.volume.volume != 0)
+      j.member("volume_rel_change",
+               (after.volume.volume - before.volume.volume) / std::fabs(before.volume.volume));
+    else
+      j.memberNull("volume_rel_change");
+  } else {
+    j.memberNull("volume_before").memberNull("volume_after").memberNull("volume_rel_change");
+  }
+  writeDistance(j, dist);
+  if (inverted >= 0)
+    j.member("inverted_faces", inverted);
+  else
+    j.memberNull("inverted_faces");
+  j.member("moved", st.moved);
+  j.member("backtracked", st.backtracked);
+  j.member("fallback_moves", st.fallbackMoves);
+  j.member("rejected", st.rejected);
+  j.member("failed_solves", st.failedSolves);
+  j.member("unchanged", st.unchanged);
+  j.member("active_vertices", st.activeVertices);
+  j.member("fixed_boundary", st.fixedBoundary);
+  j.member("fixed_nonmanifold", st.fixedNonManifold);
+  j.member("cancelled", st.cancelled);
+  j.key("before").beginObject();
+  writeMeasures(j, before);
+  j.endObject();
+  j.key("after").beginObject();
+  writeMeasures(j, after);
+  j.endObject();
+  j.endObject();
+  return j.str();
+}
+
+int runSmooth(const std::vector<std::string>& args) {
+  SmoothOptions o;
+  if (!parseSmooth(args, o)) return kExitOk;
+  gStatus.enabled = gStatus.enabled && !o.quiet;
+
+  // Create the temporary outputs first: an unwritable destination fails
+  // before any work, and anything that fails later removes them.
+  sodt::PendingFile out(o.out);
+  trackTemporary(out);
+  std::unique_ptr<sodt::PendingFile> report;
+  if (!o.report.empty()) {
+    report.reset(new sodt::PendingFile(o.report));
+    trackTemporary(*report);
+  }
+
+  MeshD m;
+  sodt::LoadInfo info;
+  loadInput(o.in, m, &info);
+  if (o.params.selectedOnly && info.selectedVertices == 0)
+    throw UsageError("--selected-only: the input has no selected vertices", kSmoothHelp);
+
+  gStatus.draw("measuring input...");
+  const Measures before = measure(m);
+  MeshD input;
+  vcg::tri::Append<MeshD, MeshD>::MeshCopy(input, m);
+  gStatus.end(false);
+
+  progressCallback(0, ("S-ODT sweep 0/" + std::to_string(o.params.iterations)).c_str());
+  const auto t0 = std::chrono::steady_clock::now();
+  const sodt::SodtStats st = sodt::SodtSmoother<MeshD>::Apply(m, o.params, &progressCallback);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  gStatus.end(true);
+  if (st.cancelled) throw std::runtime_error("smoothing was cancelled");
+
+  gStatus.draw("measuring output...");
+  const Measures after = measure(m);
+  const Distance dist = distanceTo(m, input);
+  const long long inverted = sodt::countInvertedFaces(m, input);
+  gStatus.end(false);
+
+  gStatus.draw("writing " + baseName(o.out) + "...");
+  sodt::SaveOptions so;
+  so.vertexQuality = info.vertexQuality;
+  so.vertexColor = info.vertexColor;
+  so.vertexSelection = info.vertexSelection;
+  sodt::saveMesh(out, m, so);
+  if (report) sodt::writeText(*report, smoothReport(o, m, before, after, dist, inverted, st, seconds));
+  gStatus.end(false);
+  out.commit();
+  if (report) report->commit();
+
+  if (!o.quiet) printSmoothSummary(o, m, before, after, dist, inverted, st, seconds);
+  return kExitOk;
+}
+
+// ---------------------------------------------------------------------------
+// sodt stats
+
+const char* const kStatsHelp = "sodt stats --help";
+
+int runStats(const std::vector<std::string>& args) {
+  static const std::vector<OptionSpec> specs = {{"--reference", true}, {"--json", true}};
+  const ParsedArgs a = parseArgs(args, specs, kStatsHelp);
+  if (a.help) {
+    printStatsHelp();
+    return kExitOk;
+  }
+  std::string reference, jsonPath;
+  for (const auto& kv : a.options) {
+    if (kv.second.empty()) throw UsageError("option '" + kv.first + "' needs a file name", kStatsHelp);
+    (kv.first == "--reference" ? reference : jsonPath) = kv.second;
+  }
+  if (a.positionals.size() != 1)
+    throw UsageError("'sodt stats' needs exactly one input file, got " + std::to_string(a.positionals.size()),
+                     kStatsHelp);
+  const std::string in = a.positionals[0];
+  if (!jsonPath.empty() && (samePath(jsonPath, in) || (!reference.empty() && samePath(jsonPath, reference))))
+    throw UsageError("--json would overwrite an input file", kStatsHelp);
+
+  std::unique_ptr<sodt::PendingFile> jsonOut;
+  if (!jsonPath.empty()) {
+    jsonOut.reset(new sodt::PendingFile(jsonPath));
+    trackTemporary(*jsonOut);
+  }
+
+  MeshD m;
+  loadInput(in, m, nullptr);
+  MeshD ref;
+  if (!reference.empty()) loadInput(reference, ref, nullptr);
+
+  gStatus.draw("measuring...");
+  const Measures s = measure(m);
+  sodt::JsonWriter j;
+  j.beginObject();
+  j.member("input", in);
+  j.member("vertices", m.vn);
+  j.member("faces", m.fn);
+  writeMeasures(j, s);
+  if (!reference.empty()) {
+    const Distance d = distanceTo(m, ref);
+    const long long inv = (m.vn == ref.vn && m.fn == ref.fn) ? sodt::countInvertedFaces(m, ref) : -1;
+    j.member("reference", reference);
+    writeDistance(j, d);
+    if (inv >= 0)
+      j.member("inverted_faces", inv);
+    else
+      j.memberNull("inverted_faces");
+  }
+  j.endObject();
+  gStatus.end(false);
+
+  if (jsonOut) {
+    sodt::writeText(*jsonOut, j.str());
+    jsonOut->commit();
+  } else {
+    const std::string text = j.str();
+    if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0)
+      throw sodt::IoError(std::string("cannot write to standard output: ") + std::strerror(errno));
+  }
+  return kExitOk;
+}
+
+int run(const std::vector<std::string>& args) {
+  if (args.empty()) throw UsageError("no command given", "sodt --help");
+  const std::string& cmd = args[0];
+  const std::vector<std::string> rest(args.begin() + 1, args.end());
+  if (cmd == "-h" || cmd == "--help" || cmd == "help") {
+    printMainHelp();
+    return kExitOk;
+  }
+  if (cmd == "--version") {
+    std::printf("sodt %s\n", SODT_VERSION);
+    return kExitOk;
+  }
+  if (cmd == "smooth") return runSmooth(rest);
+  if (cmd == "stats") return runStats(rest);
+  if (!cmd.empty() && cmd[0] == '-') throw UsageError("unknown option '" + cmd + "'", "sodt --help");
+  throw UsageError("unknown command '" + cmd + "' (expected smooth or stats)", "sodt --help");
+}
+
+}  // namespace
+
+/// Entry point: every error ends as one "sodt: error: ..." line on stderr and
+/// a non-zero exit status (see printMainHelp()).
+int main(int argc, char** argv) {
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  std::signal(SIGHUP, onSignal);
+  gStatus.enabled = ::isatty(STDERR_FILENO) == 1;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  try {
+    return run(args);
+  } catch (const UsageError& e) {
+    gStatus.end(false);
+    std::fprintf(stderr, "sodt: error: %s\nsee '%s'\n", e.what(), e.helpCommand.c_str());
+    return kExitUsage;
+  } catch (const std::bad_alloc&) {
+    gStatus.end(false);
+    std::fprintf(stderr, "sodt: error: out of memory\n");
+    return kExitFailure;
+  } catch (const std::exception& e) {
+    // sodt::InvalidInput, sodt::IoError and vcglib's exceptions.
+    gStatus.end(false);
+    std::fprintf(stderr, "sodt: error: %s\n", e.what());
+    return kExitFailure;
+  } catch (...) {
+    gStatus.end(false);
+    std::fprintf(stderr, "sodt: error: unexpected failure\n");
+    return kExitFailure;
+  }
+}

@@ -1,0 +1,265 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Invariants of the Gauss-Seidel S-ODT sweeps on whole meshes, for the float
+// (CMeshO-like) and the double mesh type: volume, planarity, guards, fixed sets.
+#include "test_mesh.h"
+
+#include <sodt/io.h>
+#include <sodt/metrics.h>
+#include <sodt/smoother.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace {
+
+template <class M>
+std::vector<typename M::CoordType> positions(const M& m) {
+  std::vector<typename M::CoordType> p;
+  for (const auto& v : m.vert) p.push_back(v.cP());
+  return p;
+}
+
+template <class M>
+sodt::SodtStats smooth(M& m, sodt::Guard guard, int iterations, bool selectedOnly = false) {
+  sodt::SodtParams p;
+  p.guard = guard;
+  p.iterations = iterations;
+  p.selectedOnly = selectedOnly;
+  return sodt::SodtSmoother<M>::Apply(m, p);
+}
+
+template <class M>
+void jitteredSphere(M& m, double amount = 0.3) {
+  sodt_test::makeSphere(m, 3);
+  sodt_test::jitterOnSphere(m, amount, 2024);
+}
+
+}  // namespace
+
+template <class M>
+class SmootherTest : public ::testing::Test {};
+using MeshTypes = ::testing::Types<sodt::MeshF, sodt::MeshD>;
+TYPED_TEST_SUITE(SmootherTest, MeshTypes);
+
+TYPED_TEST(SmootherTest, JitteredPlanarGridStaysPlanarAndImproves) {
+  TypeParam m;
+  sodt_test::makeGrid(m, 21, 0.3, 7);
+  const auto before = sodt::computeAngleStats(m);
+  for (sodt::Guard g : {sodt::Guard::None, sodt::Guard::Fold, sodt::Guard::Quality}) {
+    TypeParam w;
+    vcg::tri::Append<TypeParam, TypeParam>::MeshCopy(w, m);
+    const sodt::SodtStats s = smooth(w, g, 10);
+    EXPECT_GT(s.moved, 0);
+    for (const auto& v : w.vert) EXPECT_EQ(v.cP()[2], 0) << "left the plane";
+    const auto after = sodt::computeAngleStats(w);
+    EXPECT_LT(after.fracBelow30, before.fracBelow30) << sodt::toString(g);
+    if (g != sodt::Guard::None) EXPECT_EQ(sodt::countInvertedFaces(w, m), 0);
+    if (g == sodt::Guard::Quality) EXPECT_GT(after.minDeg, before.minDeg + 20);
+  }
+}
+
+TYPED_TEST(SmootherTest, BoundaryVerticesStayBitwiseFixed) {
+  TypeParam m;
+  sodt_test::makeGrid(m, 12, 0.4, 3);
+  const auto p0 = positions(m);
+  const sodt::SodtStats s = smooth(m, sodt::Guard::Quality, 5);
+  EXPECT_EQ(s.fixedBoundary, 4 * 11);
+  for (int y = 0; y < 12; ++y)
+    for (int x = 0; x < 12; ++x)
+      if (x == 0 || y == 0 || x == 11 || y == 11) EXPECT_EQ(m.vert[y * 12 + x].cP(), p0[y * 12 + x]);
+}
+
+TYPED_TEST(SmootherTest, UnselectedAndDeletedVerticesStayBitwiseFixed) {
+  TypeParam m;
+  jitteredSphere(m);
+  std::mt19937 g(1);
+  for (auto& v : m.vert) {
+    v.ClearS();
+    if (sodt_test::uniform01(g) < 0.3) v.SetS();
+  }
+  const auto p0 = positions(m);
+  const sodt::SodtStats s = smooth(m, sodt::Guard::Quality, 5, true);
+  EXPECT_GT(s.moved + s.backtracked, 0);
+  int movedSelected = 0;
+  for (std::size_t i = 0; i < m.vert.size(); ++i) {
+    if (!m.vert[i].IsS())
+      EXPECT_EQ(m.vert[i].cP(), p0[i]) << i;
+    else
+      movedSelected += m.vert[i].cP() != p0[i];
+  }
+  EXPECT_GT(movedSelected, 0);
+}
+
+TYPED_TEST(SmootherTest, DeletedFacesAndVerticesAreIgnored) {
+  TypeParam m;
+  jitteredSphere(m);
+  // delete one vertex and its faces: the hole's rim becomes a border
+  auto* victim = &m.vert[10];
+  for (auto& f : m.face)
+    for (int j = 0; j < 3; ++j)
+      if (f.V(j) == victim && !f.IsD()) vcg::tri::Allocator<TypeParam>::DeleteFace(m, f);
+  const auto deletedPos = victim->cP();
+  vcg::tri::Allocator<TypeParam>::DeleteVertex(m, *victim);
+  const sodt::SodtStats s = smooth(m, sodt::Guard::Quality, 3);
+  EXPECT_EQ(victim->cP(), deletedPos);
+  EXPECT_GE(s.fixedBoundary, 5);
+}
+
+TYPED_TEST(SmootherTest, QualityGuardNeverLowersTheMinimumAngle) {
+  TypeParam m;
+  jitteredSphere(m);
+  double prev = sodt::computeAngleStats(m).minDeg;
+  const double first = prev;
+  for (int it = 0; it < 8; ++it) {
+    TypeParam ref;
+    vcg::tri::Append<TypeParam, TypeParam>::MeshCopy(ref, m);
+    smooth(m, sodt::Guard::Quality, 1);
+    const double now = sodt::computeAngleStats(m).minDeg;
+    EXPECT_GE(now, prev - 1e-9) << "sweep " << it;
+    EXPECT_EQ(sodt::countInvertedFaces(m, ref), 0);
+    prev = now;
+  }
+  EXPECT_GT(prev, first + 10);
+}
+
+TYPED_TEST(SmootherTest, FoldingStarsAreNeverCommittedByTheGuards) {
+  // Bipyramids whose top apex sits over a non-convex (star-shaped) ring: for
+  // some of them the literal S-ODT target lies outside the ring's kernel.
+  std::mt19937 g(42);
+  int foldingCases = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int n = 5 + static_cast<int>(sodt_test::uniform01(g) * 5);
+    std::vector<vcg::Point3d> ring;
+    for (int k = 0; k < n; ++k) {
+      const double t = 2 * sodt::kPi * (k + sodt_test::uniform(g, -0.3, 0.3)) / n;
+      const double r = (k % 2) ? sodt_test::uniform(g, 0.15, 0.5) : sodt_test::uniform(g, 1.0, 3.0);
+      ring.emplace_back(r * std::cos(t), r * std::sin(t), 0);
+    }
+    const vcg::Point3d top(sodt_test::uniform(g, -0.1, 0.1), sodt_test::uniform(g, -0.1, 0.1), 0.3);
+    TypeParam ref;
+    sodt_test::makeBipyramid(ref, ring, top);
+    TypeParam literal;
+    vcg::tri::Append<TypeParam, TypeParam>::MeshCopy(literal, ref);
+    smooth(literal, sodt::Guard::None, 1, true);
+    if (sodt::countInvertedFaces(literal, ref) == 0) continue;
+    ++foldingCases;
+    for (sodt::Guard guard : {sodt::Guard::Fold, sodt::Guard::Quality}) {
+      TypeParam w;
+      vcg::tri::Append<TypeParam, TypeParam>::MeshCopy(w, ref);
+      smooth(w, guard, 1, true);
+      EXPECT_EQ(sodt::countInvertedFaces(w, ref), 0) << "trial " << trial << " guard " << sodt::toString(guard);
+    }
+  }
+  EXPECT_GT(foldingCases, 5) << "the fixture should produce stars that the literal update folds";
+}
+
+TEST(Smoother, UnguardedSweepsKeepTheVolumeOfAClosedDoubleMesh) {
+  sodt::MeshD m;
+  jitteredSphere(m);
+  const sodt::VolumeResult v0 = sodt::enclosedVolume(m);
+  ASSERT_TRUE(v0.closed);
+  const sodt::SodtStats s = smooth(m, sodt::Guard::None, 20);
+  EXPECT_GT(s.moved, m.vn);
+  const sodt::VolumeResult v1 = sodt::enclosedVolume(m);
+  EXPECT_LT(std::abs(v1.volume - v0.volume) / v0.volume, 1e-12);
+  // the guarded run moves along the same segments, so it keeps the volume too
+  sodt::MeshD g;
+  jitteredSphere(g);
+  smooth(g, sodt::Guard::Quality, 20);
+  EXPECT_LT(std::abs(sodt::enclosedVolume(g).volume - v0.volume) / v0.volume, 1e-12);
+}
+
+TEST(Smoother, FloatMeshKeepsVolumeToSinglePrecision) {
+  sodt::MeshF m;
+  jitteredSphere(m);
+  const double v0 = sodt::enclosedVolume(m).volume;
+  smooth(m, sodt::Guard::Quality, 20);
+  EXPECT_LT(std::abs(sodt::enclosedVolume(m).volume - v0) / v0, 1e-5);
+}
+
+TEST(Smoother, BundledSliverMeshImprovesWithoutInvertedFaces) {
+  const std::string path = std::string(SODT_MESH_DIR) + "/blobs_mc.ply";
+  ASSERT_TRUE(sodt_test::fileExists(path)) << path;
+  sodt::MeshF m;
+  sodt::loadMesh(path, m);
+  sodt::MeshF ref;
+  vcg::tri::Append<sodt::MeshF, sodt::MeshF>::MeshCopy(ref, m);
+  const auto before = sodt::computeAngleStats(m);
+  const double vol0 = sodt::enclosedVolume(m).volume;
+  smooth(m, sodt::Guard::Quality, 20);
+  const auto after = sodt::computeAngleStats(m);
+  EXPECT_EQ(sodt::countInvertedFaces(m, ref), 0);
+  EXPECT_GT(after.minDeg, before.minDeg + 5);
+  EXPECT_LT(after.fracBelow30, 0.5 * before.fracBelow30);
+  EXPECT_LT(sodt::hausdorffRel(m, ref), 0.01);
+  EXPECT_LT(std::abs(sodt::enclosedVolume(m).volume - vol0) / std::abs(vol0), 1e-4);
+}
+
+TEST(Smoother, NonFiniteCoordinatesAreRejectedBeforeAnyChange) {
+  sodt::MeshD m;
+  jitteredSphere(m);
+  m.vert[7].P()[1] = std::numeric_limits<double>::quiet_NaN();
+  const auto p0 = positions(m);
+  EXPECT_THROW(smooth(m, sodt::Guard::Quality, 3), sodt::InvalidInput);
+  for (std::size_t i = 0; i < m.vert.size(); ++i)
+    if (i != 7) EXPECT_EQ(m.vert[i].cP(), p0[i]);
+}
+
+TEST(Smoother, BadParametersThrowAndEmptyMeshIsANoOp) {
+  sodt::MeshD m;
+  sodt::SodtParams p;
+  p.iterations = -1;
+  EXPECT_THROW(sodt::SodtSmoother<sodt::MeshD>::Apply(m, p), sodt::InvalidInput);
+  p = sodt::SodtParams{};
+  p.guard = static_cast<sodt::Guard>(7);
+  EXPECT_THROW(sodt::SodtSmoother<sodt::MeshD>::Apply(m, p), sodt::InvalidInput);
+  const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(m, sodt::SodtParams{});
+  EXPECT_EQ(s.activeVertices, 0);
+  EXPECT_EQ(s.iterations, 0);
+}
+
+namespace {
+std::vector<int> g_progress;
+bool recordProgress(const int pos, const char*) {
+  g_progress.push_back(pos);
+  return true;
+}
+bool stopAtThird(const int pos, const char*) {
+  g_progress.push_back(pos);
+  return g_progress.size() < 3;
+}
+}  // namespace
+
+TEST(Smoother, ProgressRisesMonotonicallyToHundredAndCanCancel) {
+  sodt::MeshD m;
+  jitteredSphere(m);
+  sodt::SodtParams p;
+  p.iterations = 7;
+  g_progress.clear();
+  sodt::SodtSmoother<sodt::MeshD>::Apply(m, p, recordProgress);
+  ASSERT_EQ(g_progress.size(), 7u);
+  for (std::size_t i = 1; i < g_progress.size(); ++i) EXPECT_GT(g_progress[i], g_progress[i - 1]);
+  EXPECT_EQ(g_progress.back(), 100);
+  g_progress.clear();
+  const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p, stopAtThird);
+  EXPECT_TRUE(s.cancelled);
+  EXPECT_EQ(s.iterations, 3);
+}
+
+TEST(Smoother, NonManifoldVerticesStayFixed) {
+  sodt::MeshD m;
+  jitteredSphere(m);
+  // add a fin: a face hanging off an existing edge makes that edge non-manifold
+  const int a = m.face[0].cV(0) - &m.vert[0], b = m.face[0].cV(1) - &m.vert[0];
+  vcg::tri::Allocator<sodt::MeshD>::AddVertices(m, 1);
+  m.vert.back().P() = vcg::Point3d(2, 2, 2);
+  sodt_test::addFace(m, a, b, m.vn - 1);
+  const auto pa = m.vert[a].cP(), pb = m.vert[b].cP();
+  const sodt::SodtStats s = smooth(m, sodt::Guard::Quality, 3);
+  EXPECT_GE(s.fixedNonManifold, 2);
+  EXPECT_EQ(m.vert[a].cP(), pa);
+  EXPECT_EQ(m.vert[b].cP(), pb);
+}
