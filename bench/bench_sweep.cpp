@@ -136,10 +136,12 @@ void benchScalar(const std::string& scalar, const Options& o, std::vector<Row>& 
       if (sweeps == o.sweeps) full = s;
     });
     const double visits = std::max(1.0, double(full.activeVertices) * full.iterations);
-    char note[160];
-    std::snprintf(note, sizeof note, "of all vertex visits: %.1f%% moved (%.1f%% after backtracking), %.1f%% rejected",
+    char note[200];
+    std::snprintf(note, sizeof note,
+                  "of all vertex visits: %.1f%% moved (%.1f%% after backtracking), %.1f%% Laplacian fallback, "
+                  "%.1f%% rejected",
                   100.0 * (full.moved + full.backtracked) / visits, 100.0 * full.backtracked / visits,
-                  100.0 * full.rejected / visits);
+                  100.0 * full.fallbackMoves / visits, 100.0 * full.rejected / visits);
     r.scalar = scalar;
     r.method = std::string("S-ODT Alg.1, guard ") + sodt::toString(g);
     r.note = note;
