@@ -54,6 +54,47 @@ inline double triangleMinAngleCos2(const Vec3& a, const Vec3& b, const Vec3& c) 
   return dot <= 0 ? 0.0 : std::min(1.0, dot * dot / den);
 }
 
+/// Squared distance from p to the closest point of triangle (a, b, c),
+/// by the Voronoi regions of its vertices, edges and face.
+inline double pointTriangleDistance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab * ap, d2 = ac * ap;
+  if (d1 <= 0 && d2 <= 0) return ap.SquaredNorm();
+  const Vec3 bp = p - b;
+  const double d3 = ab * bp, d4 = ac * bp;
+  if (d3 >= 0 && d4 <= d3) return bp.SquaredNorm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double t = d1 / (d1 - d3);
+    return (p - (a + ab * t)).SquaredNorm();
+  }
+  const Vec3 cp = p - c;
+  const double d5 = ab * cp, d6 = ac * cp;
+  if (d6 >= 0 && d5 <= d6) return cp.SquaredNorm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double t = d2 / (d2 - d6);
+    return (p - (a + ac * t)).SquaredNorm();
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return (p - (b + (c - b) * t)).SquaredNorm();
+  }
+  const double den = va + vb + vc;
+  if (!(den > 0)) {  // degenerate triangle: closest of its edges
+    auto seg = [&p](const Vec3& u, const Vec3& v) {
+      const Vec3 d = v - u;
+      const double l = d.SquaredNorm();
+      const double t = l > 0 ? std::min(1.0, std::max(0.0, ((p - u) * d) / l)) : 0.0;
+      return (p - (u + d * t)).SquaredNorm();
+    };
+    return std::min({seg(a, b), seg(b, c), seg(c, a)});
+  }
+  const double v = vb / den, w = vc / den;
+  return (p - (a + ab * v + ac * w)).SquaredNorm();
+}
+
 /// Fills s and t so that (s, t, n) is a right-handed orthonormal frame.
 /// \pre n has unit length.
 inline void tangentFrame(const Vec3& n, Vec3& s, Vec3& t) {

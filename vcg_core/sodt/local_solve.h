@@ -6,6 +6,7 @@
 #include "geometry.h"
 
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace sodt {
@@ -19,6 +20,9 @@ struct Star {
   /// for a triangle that was degenerate there); the fold guard keeps every
   /// triangle within 90 degrees of these so that no face ends up inverted.
   std::vector<Vec3> refNormal;
+  /// Optional input surface around the vertex (the input faces of its one-
+  /// and two-ring, as vertex triples), for the deviation guard.
+  std::vector<Vec3> refPatch;
 
   std::size_t size() const { return ring.size(); }
   const Vec3& at(std::size_t k) const { return ring[k % ring.size()]; }
@@ -121,6 +125,84 @@ inline LocalMove solveStar(const Star& st) {
   return mv;
 }
 
+/// The objective of Eq. 5 as a quadratic over all of R^3, for a fixed unit
+/// vector n in D'_k: E(center + p) = p^T Q p + g . p + const. It is exact for
+/// every p (not only in the plane through the centre), because sum_k D'_k is
+/// constant for any p (Appendix B) and D'_k is affine in p.
+struct StarQuadratic {
+  double Q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  Vec3 g = Vec3(0, 0, 0);
+
+  double quad(const Vec3& a, const Vec3& b) const {  // a^T Q b
+    double r = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) r += a[i] * Q[i][j] * b[j];
+    return r;
+  }
+  Vec3 apply(const Vec3& a) const {
+    Vec3 r(0, 0, 0);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) r[i] += Q[i][j] * a[j];
+    return r;
+  }
+};
+
+/// Builds the quadratic of Eq. 5 relative to the star's centre.
+///
+/// With X_k = x_k - x0, e_k = X_{k+1} - X_k, w_k = e_k x n, c_k = det(X_k, X_{k+1}, n),
+/// S_k = X_k + X_{k+1}, A_k = |X_k|^2 + |X_{k+1}|^2 + |e_k|^2 and C = sum c_k:
+/// E(x0 + p) = 2 C |p|^2 + sum_k (A_k - 2 p.S_k)(c_k - p.w_k), so
+/// Q = 2 C I + sum_k (S_k w_k^T + w_k S_k^T) and g = -sum_k (2 c_k S_k + A_k w_k).
+inline StarQuadratic sodtQuadratic(const Star& st, const Vec3& n) {
+  StarQuadratic q;
+  double C = 0;
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const Vec3 Xa = st.at(k) - st.center, Xb = st.at(k + 1) - st.center;
+    const Vec3 e = Xb - Xa, w = e ^ n, S = Xa + Xb;
+    const double c = (Xa ^ Xb) * n;
+    const double A = Xa.SquaredNorm() + Xb.SquaredNorm() + e.SquaredNorm();
+    C += c;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) q.Q[i][j] += S[i] * w[j] + w[i] * S[j];
+    q.g -= S * (2 * c) + w * A;
+  }
+  for (int i = 0; i < 3; ++i) q.Q[i][i] += 2 * C;
+  return q;
+}
+
+/// Minimiser of the quadratic over the line centre + p0 + d e (e a unit
+/// vector), written to p (relative to the centre). False when the quadratic
+/// is not strictly convex along e.
+///
+/// With the coefficients of the paper's Eq. 11 for p0 = 0, A = e^T Q e / 2 and
+/// B = -g.e / 2, the minimiser is d* = +B / (2A): the printed "d* = -B/(2A)"
+/// has the wrong sign (it is a maximiser's mirror image and diverges).
+inline bool minimizeOnLine(const StarQuadratic& q, const Vec3& p0, const Vec3& e, Vec3& p) {
+  const double a = q.quad(e, e);
+  const double b = e * (q.g + q.apply(p0) * 2.0);
+  const double scale = std::abs(q.Q[0][0]) + std::abs(q.Q[1][1]) + std::abs(q.Q[2][2]);
+  if (!(a > 1e-12 * scale)) return false;
+  const double d = -b / (2 * a);
+  p = p0 + e * d;
+  return isFinite(p);
+}
+
+/// Minimiser of the quadratic over the plane centre + p0 + u s + v t, written
+/// to p (relative to the centre). False when not strictly convex there.
+inline bool minimizeOnPlane(const StarQuadratic& q, const Vec3& p0, const Vec3& s, const Vec3& t, Vec3& p) {
+  const double qss = q.quad(s, s), qtt = q.quad(t, t), qst = q.quad(s, t);
+  const Vec3 grad = q.g + q.apply(p0) * 2.0;
+  const double rs = -(s * grad), rt = -(t * grad);
+  // 2 [qss qst; qst qtt] (u v)^T = (rs rt)^T
+  const double det = qss * qtt - qst * qst;
+  const double scale = std::abs(qss * qtt) + qst * qst;
+  if (!(qss > 0) || !(det > 1e-12 * scale)) return false;
+  const double u = (qtt * rs - qst * rt) / (2 * det);
+  const double v = (qss * rt - qst * rs) / (2 * det);
+  p = p0 + s * u + t * v;
+  return isFinite(p);
+}
+
 /// Smallest interior angle (radians) over the triangles of the star with the
 /// centre placed at p.
 inline double starMinAngle(const Star& st, const Vec3& p) {
@@ -168,6 +250,28 @@ inline bool moveFolds(const Star& st, const Vec3& p, const Vec3& n) {
     if (haveRef && next * st.refNormal[k] < 0) return true;
   }
   return false;
+}
+
+/// True when q lies within sqrt(limit2) of some triangle of the input patch
+/// (the first triangles, the vertex's own input faces, are tried first).
+inline bool nearPatch(const Star& st, const Vec3& q, double limit2) {
+  for (std::size_t t = 0; t + 2 < st.refPatch.size(); t += 3)
+    if (pointTriangleDistance2(q, st.refPatch[t], st.refPatch[t + 1], st.refPatch[t + 2]) <= limit2) return true;
+  return false;
+}
+
+/// True when, with the centre at p, every triangle of the star stays within
+/// sqrt(limit2) of the input surface patch st.refPatch: its centroid and the
+/// midpoints of its two edges at p are tested. Always true without a patch.
+inline bool staysOnInputSurface(const Star& st, const Vec3& p, double limit2) {
+  if (st.refPatch.empty()) return true;
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const Vec3& a = st.at(k);
+    const Vec3& b = st.at(k + 1);
+    if (!nearPatch(st, (p + a + b) / 3.0, limit2)) return false;
+    if (!nearPatch(st, (p + a) * 0.5, limit2)) return false;
+  }
+  return nearPatch(st, p, limit2);
 }
 
 /// Tangential Laplacian target: the centroid of the ring projected on the

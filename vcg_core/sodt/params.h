@@ -10,7 +10,18 @@ namespace sodt {
 
 /// Which vertex update a sweep applies.
 enum class Algorithm : int {
-  Basic = 0,  ///< Algorithm 1 of the paper: closed-form S-ODT move in the tangent plane.
+  Basic = 0,    ///< Algorithm 1: closed-form S-ODT move in the tangent plane
+  Feature = 1,  ///< Algorithm 2: corners fixed, creases move along the crease, smooth as Basic
+  Denoise = 2,  ///< Algorithm 3: as Feature, on fitted planes and crease lines (removes noise)
+};
+
+/// Per-vertex class of the normal-tensor analysis (paper Eq. 9-10). The
+/// numbers are a documented contract: they are written as vertex quality.
+enum class VertexClass : int {
+  Smooth = 0,  ///< one dominant normal direction
+  Crease = 1,  ///< two normal directions; moves along the crease direction e3
+  Corner = 2,  ///< three normal directions; never moves
+  Fixed = 3,   ///< border, non-manifold, isolated: never moves, not classified
 };
 
 /// What a proposed move must satisfy before it is committed.
@@ -38,6 +49,22 @@ struct SodtParams {
   /// guard. Ignored with Guard::None, which reproduces the paper.
   bool laplacianFallback = true;
   bool selectedOnly = false;     ///< move only selected vertices (the others still shape the stars)
+  /// Crease sensitivity epsilon of Eq. 10 (> 0): larger finds more creases.
+  double epsilon = 2.0;
+  /// Corner sensitivity eta of Eq. 10 (> 0): larger finds more corners among the creases.
+  double eta = 2.0;
+  /// Basic and Feature: after a move, the vertex and the centroids and edge
+  /// midpoints of its faces must lie within this distance of the input
+  /// surface around it (its one- and two-ring faces in the input mesh), as a
+  /// fraction of the bounding-box diagonal (0 disables the check). Keeps
+  /// vertices and faces from cutting across creases and bounds the Hausdorff
+  /// distance to the input. Not used by Denoise, whose purpose is to leave
+  /// the noisy input surface, nor with Guard::None.
+  double maxDeviationRel = 0.001;
+  /// Denoise only: largest displacement of a vertex along its fitted normal in
+  /// one sweep, in units of the mesh's mean edge length. Bounds how far the
+  /// surface can drift from the input however many sweeps run.
+  double maxNormalStepRel = 0.05;
 
   /// Throws InvalidInput naming the offending parameter.
   void validate() const {
@@ -47,7 +74,16 @@ struct SodtParams {
       throw InvalidInput("maxBacktracks must be in [0, 60], got " + std::to_string(maxBacktracks));
     const int g = static_cast<int>(guard);
     if (g < 0 || g > 2) throw InvalidInput("guard must be none, fold or quality");
-    if (static_cast<int>(algorithm) != 0) throw InvalidInput("algorithm must be basic");
+    const int a = static_cast<int>(algorithm);
+    if (a < 0 || a > 2) throw InvalidInput("algorithm must be basic, feature or denoise");
+    if (!(epsilon > 0) || !(epsilon < 1e6))
+      throw InvalidInput("epsilon must be a positive number below 1e6, got " + std::to_string(epsilon));
+    if (!(eta > 0) || !(eta < 1e6))
+      throw InvalidInput("eta must be a positive number below 1e6, got " + std::to_string(eta));
+    if (!(maxDeviationRel >= 0) || !(maxDeviationRel <= 1))
+      throw InvalidInput("maxDeviationRel must be in [0, 1], got " + std::to_string(maxDeviationRel));
+    if (!(maxNormalStepRel >= 0) || !(maxNormalStepRel <= 10))
+      throw InvalidInput("maxNormalStepRel must be in [0, 10], got " + std::to_string(maxNormalStepRel));
   }
 };
 
@@ -64,6 +100,9 @@ struct SodtStats {
   int fixedBoundary = 0;       ///< vertices kept fixed because they lie on a border
   int fixedNonManifold = 0;    ///< vertices kept fixed because their star is not a single disc
   int activeVertices = 0;      ///< vertices the sweeps visit
+  int smoothVertices = 0;      ///< classified smooth (all of them with Algorithm::Basic)
+  int creaseVertices = 0;      ///< classified crease (Feature, Denoise)
+  int cornerVertices = 0;      ///< classified corner, kept fixed (Feature, Denoise)
   bool cancelled = false;      ///< the progress callback asked to stop
 };
 
@@ -79,6 +118,8 @@ inline const char* toString(Guard g) {
 inline const char* toString(Algorithm a) {
   switch (a) {
     case Algorithm::Basic: return "basic";
+    case Algorithm::Feature: return "feature";
+    case Algorithm::Denoise: return "denoise";
   }
   return "?";
 }
@@ -91,10 +132,22 @@ inline Guard guardFromString(const std::string& s) {
   throw InvalidInput("unknown guard '" + s + "' (expected none, fold or quality)");
 }
 
-/// Parses "basic"; throws InvalidInput otherwise.
+/// Parses "basic" | "feature" | "denoise"; throws InvalidInput otherwise.
 inline Algorithm algorithmFromString(const std::string& s) {
   if (s == "basic") return Algorithm::Basic;
-  throw InvalidInput("unknown algorithm '" + s + "' (expected basic)");
+  if (s == "feature") return Algorithm::Feature;
+  if (s == "denoise") return Algorithm::Denoise;
+  throw InvalidInput("unknown algorithm '" + s + "' (expected basic, feature or denoise)");
+}
+
+inline const char* toString(VertexClass c) {
+  switch (c) {
+    case VertexClass::Smooth: return "smooth";
+    case VertexClass::Crease: return "crease";
+    case VertexClass::Corner: return "corner";
+    case VertexClass::Fixed: return "fixed";
+  }
+  return "?";
 }
 
 }  // namespace sodt

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Gauss-Seidel S-ODT sweeps over a vcg triangle mesh (paper Algorithm 1), with
-// the fold / quality safeguards applied to every move before it is committed.
+// Gauss-Seidel S-ODT sweeps over a vcg triangle mesh (paper Algorithms 1-3),
+// with the fold / quality safeguards applied to every move before it is committed.
 #pragma once
 
+#include "classify.h"
+#include "fitting.h"
 #include "local_solve.h"
 #include "params.h"
 #include "topology.h"
@@ -23,24 +25,39 @@ struct SodtSmoother {
   using ScalarType = typename MeshType::ScalarType;
   using CoordType = typename MeshType::CoordType;
 
-  /// Runs p.iterations Gauss-Seidel sweeps of Algorithm 1 (paper Sec. 2.3).
+  /// Runs p.iterations Gauss-Seidel sweeps of the chosen algorithm.
   ///
-  /// Each vertex with a closed, manifold one-ring moves in its tangent plane
-  /// (Eq. 4) towards the closed-form minimiser of Eq. 5. The local solve is
-  /// done in double; the committed position is the one representable in
-  /// ScalarType, and that rounded position is what the guard checks. With
-  /// Guard::None and a double mesh the enclosed volume of a closed mesh is
-  /// kept to rounding (Appendix D). Boundary, non-manifold, isolated and
-  /// deleted vertices never move; with p.selectedOnly only selected vertices
-  /// move. Updates the bounding box, and face/vertex normals when present.
+  /// Basic (Algorithm 1, Sec. 2.3): each vertex with a closed, manifold
+  /// one-ring moves in its tangent plane (Eq. 4) to the closed-form minimiser
+  /// of Eq. 5. Feature (Algorithm 2, Sec. 2.4): vertices are classified once,
+  /// on the input, by their normal tensor (Eq. 9-10); corners stay fixed,
+  /// creases move along the crease direction e3 to the minimiser of Eq. 5 on
+  /// that line, smooth vertices as in Basic. Denoise (Algorithm 3, Sec. 2.5):
+  /// as Feature, but each smooth vertex moves on the weighted least-squares
+  /// plane of Eq. 12-13 and each crease vertex on a line fitted to the crease
+  /// vertices around it; both are fitted once, on the input, so the result
+  /// stays on the input's local fits instead of creeping inwards sweep after
+  /// sweep, and a vertex moves at most p.maxNormalStepRel mean edge lengths
+  /// along its fitted normal per sweep.
+  ///
+  /// The local solves are done in double; the committed position is the one
+  /// representable in ScalarType, and that rounded position is what the guard
+  /// checks. With Basic, Guard::None and a double mesh the enclosed volume of
+  /// a closed mesh is kept to rounding (Appendix D). Boundary, non-manifold,
+  /// isolated and deleted vertices never move; with p.selectedOnly only
+  /// selected vertices move. Updates the bounding box, and face/vertex normals
+  /// when present.
   ///
   /// \param m  mesh to smooth; needs per-vertex flags (deleted, selected).
   /// \param p  validated by this call.
   /// \param cb optional progress callback (0..100), called once per sweep;
   ///           returning false stops after the current sweep.
+  /// \param classes when not null, receives the classification used (all
+  ///        interior vertices Smooth for Basic).
   /// \throw InvalidInput for bad parameters or a non-finite coordinate; the
   ///        mesh is untouched then.
-  static SodtStats Apply(MeshType& m, const SodtParams& p, vcg::CallBackPos* cb = nullptr) {
+  static SodtStats Apply(MeshType& m, const SodtParams& p, vcg::CallBackPos* cb = nullptr,
+                         Classification* classes = nullptr) {
     p.validate();
     SodtStats stats;
     const int nv = static_cast<int>(m.vert.size());
@@ -53,12 +70,34 @@ struct SodtSmoother {
         throw InvalidInput("vertex " + std::to_string(i) + " has a non-finite coordinate");
     }
     const RingTopology topo = buildRingTopology(m);
+    const double meanEdge = meanEdgeLength(m);
+
+    Classification cls;
+    if (p.algorithm == Algorithm::Basic) {
+      cls.cls.assign(nv, VertexClass::Fixed);
+      cls.creaseDir.assign(nv, Vec3(0, 0, 0));
+      for (int i = 0; i < nv; ++i) {
+        if (topo.kind[i] == VertexKind::Deleted) continue;
+        cls.cls[i] = topo.kind[i] == VertexKind::Interior ? VertexClass::Smooth : VertexClass::Fixed;
+        ++cls.count[static_cast<int>(cls.cls[i])];
+      }
+    } else if (p.algorithm == Algorithm::Feature) {
+      cls = classifyRings(topo, pos, meanEdge, p.epsilon, p.eta);
+    } else {
+      // Noise turns single spikes into false corners and creases: classify the
+      // input after projecting every vertex on its fitted plane (a vertex on a
+      // true crease or corner has too few agreeing neighbours to fit and stays).
+      cls = classifyRings(topo, projectOnFittedPlanes(topo, pos), meanEdge, p.epsilon, p.eta);
+    }
+    stats.smoothVertices = cls.smooth();
+    stats.creaseVertices = cls.crease();
+    stats.cornerVertices = cls.corner();
 
     std::vector<int> active;
     for (int i = 0; i < nv; ++i) {
       switch (topo.kind[i]) {
         case VertexKind::Interior:
-          if (!p.selectedOnly || m.vert[i].IsS()) active.push_back(i);
+          if (cls.cls[i] != VertexClass::Corner && (!p.selectedOnly || m.vert[i].IsS())) active.push_back(i);
           break;
         case VertexKind::Boundary: ++stats.fixedBoundary; break;
         case VertexKind::NonManifold: ++stats.fixedNonManifold; break;
@@ -82,6 +121,30 @@ struct SodtSmoother {
       }
     }
 
+    // Denoise: the fitted plane or crease line of every moving vertex, from the input.
+    std::vector<FittedFrame> fit;
+    if (p.algorithm == Algorithm::Denoise) {
+      fit.resize(nv);
+      // Planes are fitted to the input after two projection passes: a plane
+      // fitted to raw noisy neighbours keeps about half the noise, one fitted
+      // to pre-smoothed neighbours much less. Crease lines use the input, whose
+      // crease vertices the projections leave (nearly) in place anyway.
+      std::vector<Vec3> src = pos;
+      for (int k = 0; k < kDenoisePrePasses; ++k) src = projectOnFittedPlanes(topo, src);
+      const std::vector<Vec3> nrm = vertexNormals(topo, src);
+      for (int i : active) {
+        if (cls.cls[i] == VertexClass::Smooth)
+          fit[i] = fitPlane(i, topo, src, nrm);
+        else if (cls.cls[i] == VertexClass::Crease)
+          fit[i] = fitCreaseLine(i, cls.creaseDir[i], topo, pos, cls.cls);
+      }
+    }
+
+    const std::vector<Vec3> pos0 = pos;
+    const bool deviationGuard =
+        p.guard != Guard::None && p.algorithm != Algorithm::Denoise && p.maxDeviationRel > 0;
+    const double devLimit = p.maxDeviationRel * bboxDiagonal(pos, topo);
+    Context ctx{p, cls, fit, meanEdge, devLimit * devLimit};
     Star star;
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
       for (int i : active) {
@@ -92,7 +155,8 @@ struct SodtSmoother {
           star.ring.push_back(pos[topo.ringIdx[k]]);
           if (!faceNormal.empty()) star.refNormal.push_back(faceNormal[topo.ringFace[k]]);
         }
-        visitVertex(star, p, stats, pos[i]);
+        if (deviationGuard) gatherInputPatch(m, topo, pos0, i, star.refPatch);
+        count(stats, visitVertex(ctx, i, star, pos[i]));
       }
       ++stats.iterations;
       if (cb && !cb(100 * (it + 1) / p.iterations,
@@ -108,10 +172,75 @@ struct SodtSmoother {
     vcg::tri::UpdateBounding<MeshType>::Box(m);
     if (vcg::tri::HasPerFaceNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerFaceNormalized(m);
     if (vcg::tri::HasPerVertexNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFace(m);
+    if (classes) *classes = std::move(cls);
     return stats;
   }
 
  private:
+  /// Projection passes that pre-smooth the input before the denoising planes are fitted.
+  static constexpr int kDenoisePrePasses = 2;
+
+  /// Every interior vertex projected on its weighted least-squares plane
+  /// (Eq. 12-13) computed from the given positions; others unchanged.
+  static std::vector<Vec3> projectOnFittedPlanes(const RingTopology& topo, const std::vector<Vec3>& pos) {
+    const std::vector<Vec3> nrm = vertexNormals(topo, pos);
+    std::vector<Vec3> out = pos;
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      if (topo.kind[i] != VertexKind::Interior) continue;
+      const FittedFrame f = fitPlane(static_cast<int>(i), topo, pos, nrm);
+      if (f.ok) out[i] = pos[i] - f.dir * ((pos[i] - f.point) * f.dir);
+    }
+    return out;
+  }
+
+  /// The input faces incident to vertex i, then those incident to its ring
+  /// neighbours (shared faces repeat; harmless), as vertex triples at the
+  /// input positions.
+  static void gatherInputPatch(const MeshType& m, const RingTopology& topo, const std::vector<Vec3>& pos0, int i,
+                               std::vector<Vec3>& patch) {
+    patch.clear();
+    auto addFacesOf = [&](int v) {
+      if (topo.kind[v] != VertexKind::Interior) return;
+      for (int k = topo.ringBegin[v]; k < topo.ringBegin[v + 1]; ++k) {
+        const auto& f = m.face[topo.ringFace[k]];
+        for (int j = 0; j < 3; ++j) patch.push_back(pos0[f.cV(j) - &m.vert[0]]);
+      }
+    };
+    addFacesOf(i);
+    for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k) addFacesOf(topo.ringIdx[k]);
+  }
+
+  /// Read-only state shared by all visits of a run.
+  struct Context {
+    const SodtParams& p;
+    const Classification& cls;
+    const std::vector<FittedFrame>& fit;  ///< Denoise only
+    double meanEdge;
+    double deviationLimit2;  ///< squared distance bound to the input one-ring (stars carry it when used)
+  };
+
+  /// How one vertex visit ended.
+  enum class Outcome : unsigned char { Moved, Backtracked, Fallback, Rejected, Unchanged, Failed };
+
+  static void count(SodtStats& s, Outcome o) {
+    switch (o) {
+      case Outcome::Moved: ++s.moved; break;
+      case Outcome::Backtracked: ++s.backtracked; break;
+      case Outcome::Fallback: ++s.fallbackMoves; break;
+      case Outcome::Rejected: ++s.rejected; break;
+      case Outcome::Unchanged: ++s.unchanged; break;
+      case Outcome::Failed: ++s.failedSolves; break;
+    }
+  }
+
+  /// Bounding-box diagonal of the live vertices.
+  static double bboxDiagonal(const std::vector<Vec3>& pos, const RingTopology& topo) {
+    vcg::Box3d b;
+    for (std::size_t i = 0; i < pos.size(); ++i)
+      if (topo.kind[i] != VertexKind::Deleted) b.Add(pos[i]);
+    return b.IsNull() ? 0.0 : b.Diag();
+  }
+
   /// Rounds a double position to what the mesh can store.
   static Vec3 representable(const Vec3& x) {
     return Vec3(double(ScalarType(x[0])), double(ScalarType(x[1])), double(ScalarType(x[2])));
@@ -120,8 +249,9 @@ struct SodtSmoother {
   /// Tries the step from the centre towards target, shortened by halvings,
   /// under the guard. Returns the number of halvings used, -1 when every
   /// length was vetoed, -2 when the step rounds to no move at all.
-  static int tryStep(const Star& star, const Vec3& target, const Vec3& n, const SodtParams& p,
+  static int tryStep(const Star& star, const Vec3& target, const Vec3& n, const Context& c,
                      double minAngleCos2Before, Vec3& x) {
+    const SodtParams& p = c.p;
     const Vec3 step = target - star.center;
     double f = 1.0;
     for (int j = 0; j <= p.maxBacktracks; ++j, f *= 0.5) {
@@ -129,47 +259,107 @@ struct SodtSmoother {
       if (y == x) return j == 0 ? -2 : -1;  // shorter steps round to nothing as well
       if (moveFolds(star, y, n)) continue;
       if (p.guard == Guard::Quality && !starKeepsMinAngle(star, y, minAngleCos2Before)) continue;
+      if (!staysOnInputSurface(star, y, c.deviationLimit2)) continue;
       x = y;
       return j;
     }
     return -1;
   }
 
-  /// Solves, guards and commits the move of one vertex into x.
-  static void visitVertex(const Star& star, const SodtParams& p, SodtStats& stats, Vec3& x) {
-    const LocalMove mv = solveStar(star);
-    if (!mv.ok) {
-      ++stats.failedSolves;
-      return;
-    }
-    if (p.guard == Guard::None) {
-      const Vec3 y = representable(mv.target);
-      if (y == x) {
-        ++stats.unchanged;
+  /// A proposed move: the S-ODT target and the Laplacian fallback target, both
+  /// on the same plane or line.
+  struct Proposal {
+    bool ok = false;
+    Vec3 target, fallback;
+    Vec3 normal;  ///< tangent-plane normal, for the fold test of degenerate faces
+  };
+
+  /// Where the chosen algorithm wants vertex i (star centre) to go.
+  static Proposal propose(const Context& c, int i, const Star& star) {
+    Proposal pr;
+    pr.normal = starNormal(star);
+    if (pr.normal.SquaredNorm() == 0 || star.size() < 3) return pr;
+    Vec3 centroid(0, 0, 0);
+    for (const Vec3& q : star.ring) centroid += q;
+    centroid /= double(star.size());
+    const VertexClass vc = c.cls.cls[i];
+
+    if (c.p.algorithm == Algorithm::Denoise && c.fit[i].ok) {
+      const FittedFrame& f = c.fit[i];
+      Vec3 p;
+      if (vc == VertexClass::Smooth) {
+        const StarQuadratic q = sodtQuadratic(star, f.dir);
+        Vec3 s, t;
+        tangentFrame(f.dir, s, t);
+        const Vec3 p0 = f.point - star.center;
+        if (!minimizeOnPlane(q, p0, s, t, p)) return pr;
+        const Vec3 d = centroid - star.center - p0;
+        pr.fallback = f.point + d - f.dir * (d * f.dir);
+        pr.target = star.center + p;
+        // Bound the move along the fitted normal.
+        const double lim = c.p.maxNormalStepRel * c.meanEdge;
+        for (Vec3* x : {&pr.target, &pr.fallback}) {
+          const double h = (*x - star.center) * f.dir;
+          if (std::abs(h) > lim) *x -= f.dir * (h - (h > 0 ? lim : -lim));
+        }
       } else {
-        x = y;
-        ++stats.moved;
+        const StarQuadratic q = sodtQuadratic(star, pr.normal);
+        const Vec3 p0 = f.point - star.center;
+        if (!minimizeOnLine(q, p0, f.dir, p)) return pr;
+        pr.target = star.center + p;
+        pr.fallback = f.point + f.dir * ((centroid - f.point) * f.dir);
+        const double lim = c.p.maxNormalStepRel * c.meanEdge;
+        for (Vec3* x : {&pr.target, &pr.fallback}) {
+          const Vec3 d = *x - star.center;
+          const Vec3 across = d - f.dir * (d * f.dir);
+          const double h = across.Norm();
+          if (h > lim) *x -= across * (1 - lim / h);
+        }
       }
-      return;
+      pr.ok = isFinite(pr.target) && isFinite(pr.fallback);
+      return pr;
+    }
+
+    if (vc == VertexClass::Crease) {
+      // Along the crease direction of the current star (it follows curved creases).
+      const TensorClass t = classifyStar(star.center, star.ring, c.meanEdge, c.p.epsilon, c.p.eta);
+      const Vec3 e = t.creaseDir;
+      if (e.SquaredNorm() == 0) return pr;
+      const StarQuadratic q = sodtQuadratic(star, pr.normal);
+      Vec3 p;
+      if (!minimizeOnLine(q, Vec3(0, 0, 0), e, p)) return pr;
+      pr.target = star.center + p;
+      pr.fallback = star.center + e * ((centroid - star.center) * e);
+      pr.ok = isFinite(pr.target);
+      return pr;
+    }
+
+    // Smooth vertex of Algorithms 1-2 (and of Algorithm 3 when the fit failed).
+    const LocalMove mv = solveStar(star);
+    if (!mv.ok) return pr;
+    pr.target = mv.target;
+    pr.fallback = tangentialLaplacianTarget(star, pr.normal);
+    pr.ok = true;
+    return pr;
+  }
+
+  /// Proposes, guards and commits the move of vertex i into x.
+  static Outcome visitVertex(const Context& c, int i, const Star& star, Vec3& x) {
+    const Proposal pr = propose(c, i, star);
+    if (!pr.ok) return Outcome::Failed;
+    const SodtParams& p = c.p;
+    if (p.guard == Guard::None) {
+      const Vec3 y = representable(pr.target);
+      if (y == x) return Outcome::Unchanged;
+      x = y;
+      return Outcome::Moved;
     }
     const double before = p.guard == Guard::Quality ? starMinAngleCos2(star, star.center) : 1.0;
-    const int r = tryStep(star, mv.target, mv.normal, p, before, x);
-    if (r == 0) {
-      ++stats.moved;
-      return;
-    }
-    if (r > 0) {
-      ++stats.backtracked;
-      return;
-    }
-    if (p.laplacianFallback) {
-      const Vec3 lap = tangentialLaplacianTarget(star, mv.normal);
-      if (tryStep(star, lap, mv.normal, p, before, x) >= 0) {
-        ++stats.fallbackMoves;
-        return;
-      }
-    }
-    ++(r == -2 ? stats.unchanged : stats.rejected);
+    const int r = tryStep(star, pr.target, pr.normal, c, before, x);
+    if (r == 0) return Outcome::Moved;
+    if (r > 0) return Outcome::Backtracked;
+    if (p.laplacianFallback && tryStep(star, pr.fallback, pr.normal, c, before, x) >= 0) return Outcome::Fallback;
+    return r == -2 ? Outcome::Unchanged : Outcome::Rejected;
   }
 };
 
