@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <vector>
 #include <string>
 
 namespace {
@@ -29,7 +31,8 @@ struct Outcome {
   double volRel() const { return std::abs(volAfter - volBefore) / std::abs(volBefore); }
 };
 
-Outcome run(const std::string& file, sodt::Guard guard, sodt::MeshD* out = nullptr) {
+Outcome run(const std::string& file, sodt::Guard guard, sodt::MeshD* out = nullptr,
+            sodt::Algorithm algorithm = sodt::Algorithm::Basic, sodt::Classification* cls = nullptr) {
   sodt::MeshD m, ref;
   sodt::loadMesh(file, m);
   sodt::loadMesh(file, ref);
@@ -39,7 +42,8 @@ Outcome run(const std::string& file, sodt::Guard guard, sodt::MeshD* out = nullp
   sodt::SodtParams p;
   p.guard = guard;
   p.iterations = 20;
-  o.stats = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  p.algorithm = algorithm;
+  o.stats = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p, nullptr, cls);
   o.after = sodt::computeAngleStats(m);
   o.closed = v0.closed;
   o.volBefore = v0.volume;
@@ -102,5 +106,76 @@ TEST(Acceptance, OpenAneurysmKeepsItsBoundary) {
   for (std::size_t i = 0; i < in.vert.size(); ++i)
     if (t.kind[i] == sodt::VertexKind::Boundary) EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i;
   EXPECT_EQ(o.inverted, 0);
+  EXPECT_GE(o.after.minDeg, o.before.minDeg);
+}
+
+namespace {
+
+/// Angle between the normals of the two faces of every interior edge, in degrees.
+std::map<std::pair<int, int>, double> dihedralAngles(const sodt::MeshD& m) {
+  std::map<std::pair<int, int>, std::vector<sodt::Vec3>> normals;
+  for (const auto& f : m.face) {
+    const sodt::Vec3 n = sodt::doubleAreaVector(f.cP(0), f.cP(1), f.cP(2)).Normalize();
+    for (int j = 0; j < 3; ++j) {
+      const int a = int(f.cV(j) - &m.vert[0]), b = int(f.cV((j + 1) % 3) - &m.vert[0]);
+      normals[{std::min(a, b), std::max(a, b)}].push_back(n);
+    }
+  }
+  std::map<std::pair<int, int>, double> out;
+  for (const auto& kv : normals)
+    if (kv.second.size() == 2) out[kv.first] = sodt::angleBetween(kv.second[0], kv.second[1]) * sodt::kRadToDeg;
+  return out;
+}
+
+}  // namespace
+
+TEST(Acceptance, FandiskAlgorithm2KeepsCornersAndShape) {
+  REQUIRE_SHARED("fandisk.ply");
+  sodt::MeshD out, in;
+  sodt::loadMesh(shared("fandisk.ply"), in);
+  sodt::Classification cls;
+  const Outcome o = run(shared("fandisk.ply"), sodt::Guard::Quality, &out, sodt::Algorithm::Feature, &cls);
+  EXPECT_GT(cls.corner(), 0);
+  for (std::size_t i = 0; i < in.vert.size(); ++i)
+    if (cls.cls[i] == sodt::VertexClass::Corner) EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i;
+  EXPECT_LE(o.hausdorffToInput, 0.003);
+  EXPECT_EQ(o.inverted, 0);
+  EXPECT_GE(o.after.minDeg, 25.0);
+}
+
+TEST(Acceptance, NoisyFandiskAlgorithm3RemovesNoiseKeepsCreases) {
+  REQUIRE_SHARED("fandisk_noise0.2.ply");
+  REQUIRE_SHARED("fandisk.ply");
+  sodt::MeshD out, noisy, clean;
+  sodt::loadMesh(shared("fandisk_noise0.2.ply"), noisy);
+  sodt::loadMesh(shared("fandisk.ply"), clean);
+  const Outcome o = run(shared("fandisk_noise0.2.ply"), sodt::Guard::Quality, &out, sodt::Algorithm::Denoise);
+  const double before = sodt::surfaceDistance(noisy, clean).meanRel;
+  const double after = sodt::surfaceDistance(out, clean).meanRel;
+  EXPECT_LE(after, 0.6 * before);
+  EXPECT_GE(o.after.minDeg, 18.4);
+  EXPECT_EQ(o.inverted, 0);
+  // Creases stay sharp: the edges that are sharp (> 60 deg) in the clean mesh
+  // are still sharp, and closer to their clean angle than in the noisy input.
+  const auto dc = dihedralAngles(clean), dn = dihedralAngles(noisy), dm = dihedralAngles(out);
+  int sharp = 0, kept = 0;
+  double errNoisy = 0, errOut = 0;
+  for (const auto& kv : dc) {
+    if (kv.second <= 60) continue;
+    ++sharp;
+    kept += dm.at(kv.first) > 60;
+    errNoisy += std::abs(dn.at(kv.first) - kv.second);
+    errOut += std::abs(dm.at(kv.first) - kv.second);
+  }
+  ASSERT_GT(sharp, 0);
+  EXPECT_GE(double(kept) / sharp, 0.85);
+  EXPECT_LT(errOut, 0.8 * errNoisy);
+}
+
+TEST(Acceptance, HingeAlgorithm2StaysOnTheCadSurface) {
+  REQUIRE_SHARED("hinge.ply");
+  const Outcome o = run(shared("hinge.ply"), sodt::Guard::Quality, nullptr, sodt::Algorithm::Feature);
+  EXPECT_EQ(o.inverted, 0);
+  EXPECT_LE(o.hausdorffToInput, 0.005);
   EXPECT_GE(o.after.minDeg, o.before.minDeg);
 }

@@ -201,3 +201,112 @@ TEST(Guards, QualityMeasureIsTheStarsSmallestAngle) {
   EXPECT_NEAR(sodt::starMinAngle(st, Vec3(0, 0, 0)) * sodt::kRadToDeg, 60.0, 1e-9);
   EXPECT_LT(sodt::starMinAngle(st, Vec3(0.5, 0, 0)) * sodt::kRadToDeg, 60.0);
 }
+
+namespace {
+
+/// Minimises the energy of Eq. 5 (normal n) along the line c + d e by
+/// bracketing and golden-section search: no use of the closed form.
+double bruteForceOnLine(const Star& st, const Vec3& n, const Vec3& c, const Vec3& e) {
+  auto f = [&](double d) { return sodt::sodtEnergy(st, c + e * d, n); };
+  double lo = -8, hi = 8;
+  const double r = (std::sqrt(5.0) - 1) / 2;
+  double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo), f1 = f(x1), f2 = f(x2);
+  for (int it = 0; it < 200; ++it) {
+    if (f1 < f2) {
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - r * (hi - lo), f1 = f(x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + r * (hi - lo), f2 = f(x2);
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+TEST(LocalSolve, QuadraticFormReproducesTheEnergy) {
+  std::mt19937 g(31);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Star st = randomStar(g, 0.4);
+    const Vec3 n = sodt::starNormal(st);
+    const sodt::StarQuadratic q = sodt::sodtQuadratic(st, n);
+    const double e0 = sodt::sodtEnergy(st, st.center, n);
+    for (int j = 0; j < 5; ++j) {  // anywhere in space, not only in the plane
+      const Vec3 p(sodt_test::uniform(g, -1, 1), sodt_test::uniform(g, -1, 1), sodt_test::uniform(g, -1, 1));
+      const double want = sodt::sodtEnergy(st, st.center + p, n) - e0;
+      EXPECT_NEAR(q.quad(p, p) + q.g * p, want, 1e-9 * (1 + std::abs(want)));
+    }
+  }
+}
+
+TEST(LocalSolve, CreaseMinimiserMatchesBruteForceAndCorrectsEq11Sign) {
+  std::mt19937 g(4242);
+  int compared = 0, printedSignGoesUphill = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Star st = randomStar(g, 0.3);
+    const Vec3 n = sodt::starNormal(st);
+    Vec3 s, t;
+    sodt::tangentFrame(n, s, t);
+    const double a = sodt_test::uniform(g, 0, 2 * sodt::kPi);
+    const Vec3 e = s * std::cos(a) + t * std::sin(a);  // a crease direction in the tangent plane
+    const sodt::StarQuadratic q = sodt::sodtQuadratic(st, n);
+    Vec3 p;
+    if (!sodt::minimizeOnLine(q, Vec3(0, 0, 0), e, p)) continue;
+    const double d = p * e;
+    EXPECT_NEAR(d, bruteForceOnLine(st, n, st.center, e), 1e-6) << trial;
+    // The paper's Eq. 11 coefficients, summed exactly as printed.
+    double A = 0, B = 0, C = 0;
+    for (std::size_t k = 0; k < st.size(); ++k) {
+      const Vec3 Xa = st.at(k) - st.center, Xb = st.at(k + 1) - st.center;
+      const double detE = (e ^ (Xb - Xa)) * n;  // det(e3, X_{k+1} - X_k, n)
+      const double detX = (Xa ^ Xb) * n;        // det(X_k, X_{k+1}, n)
+      C += detX;
+      A += (e * (Xa + Xb)) * detE;
+      B += (e * (Xa + Xb)) * detX + (Xa.SquaredNorm() - Xa * Xb + Xb.SquaredNorm()) * detE;
+    }
+    A += C;
+    EXPECT_NEAR(d, B / (2 * A), 1e-9 * (1 + std::abs(d)));  // the corrected sign
+    const double e0 = sodt::sodtEnergy(st, st.center, n);
+    if (std::abs(d) > 1e-6) {
+      const double printed = -B / (2 * A);
+      EXPECT_LT(sodt::sodtEnergy(st, st.center + e * d, n), e0);
+      printedSignGoesUphill += sodt::sodtEnergy(st, st.center + e * printed, n) > e0;
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 150);
+  EXPECT_GT(printedSignGoesUphill, compared * 9 / 10);
+}
+
+TEST(LocalSolve, OffsetPlaneMinimiserMatchesBruteForce) {
+  // Algorithm 3 minimises over a fitted plane that need not pass through the centre.
+  std::mt19937 g(515);
+  int compared = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    const Star st = randomStar(g, 0.3);
+    Vec3 nf = sodt::starNormal(st) + Vec3(sodt_test::uniform(g, -0.1, 0.1), sodt_test::uniform(g, -0.1, 0.1), 0);
+    nf.Normalize();
+    const Vec3 p0 = nf * sodt_test::uniform(g, -0.2, 0.2);
+    Vec3 s, t;
+    sodt::tangentFrame(nf, s, t);
+    const sodt::StarQuadratic q = sodt::sodtQuadratic(st, nf);
+    Vec3 p;
+    if (!sodt::minimizeOnPlane(q, p0, s, t, p)) continue;
+    EXPECT_NEAR((p - p0) * nf, 0.0, 1e-12);
+    // compass search in the plane
+    double u = 0, v = 0, step = 1;
+    auto energy = [&](double uu, double vv) { return sodt::sodtEnergy(st, st.center + p0 + s * uu + t * vv, nf); };
+    double best = energy(0, 0);
+    while (step > 1e-11) {
+      bool moved = false;
+      for (int d = 0; d < 4 && !moved; ++d) {
+        const double du = d == 0 ? step : d == 1 ? -step : 0, dv = d == 2 ? step : d == 3 ? -step : 0;
+        const double e = energy(u + du, v + dv);
+        if (e < best) best = e, u += du, v += dv, moved = true;
+      }
+      if (!moved) step *= 0.5;
+    }
+    EXPECT_LT((p - (p0 + s * u + t * v)).Norm(), 1e-6) << trial;
+    ++compared;
+  }
+  EXPECT_GT(compared, 80);
+}

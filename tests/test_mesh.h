@@ -8,7 +8,9 @@
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/create/platonic.h>
 
+#include <array>
 #include <cmath>
+#include <map>
 #include <random>
 #include <string>
 #include <sys/stat.h>
@@ -103,6 +105,64 @@ void makeBipyramid(M& m, const std::vector<vcg::Point3d>& ring, const vcg::Point
   }
   for (auto& v : m.vert) v.ClearS();
   m.vert[0].SetS();
+}
+
+/// Closed cube [-1,1]^3 whose faces are n x n grids (welded, outward
+/// orientation, diagonals alternating in a checkerboard). With jitter > 0,
+/// face-interior vertices move within their face plane and edge vertices
+/// along their edge line by up to jitter cell sizes; corners never move.
+template <class M>
+void makeCube(M& m, int n, double jitter = 0.0, unsigned seed = 1) {
+  m.Clear();
+  std::mt19937 g(seed);
+  std::map<std::array<int, 3>, int> index;
+  auto vertex = [&](int x, int y, int z) {
+    const std::array<int, 3> key{x, y, z};
+    auto it = index.find(key);
+    if (it != index.end()) return it->second;
+    auto vi = vcg::tri::Allocator<M>::AddVertices(m, 1);
+    const double h = 2.0 / n;
+    vi->P() = typename M::CoordType(-1 + x * h, -1 + y * h, -1 + z * h);
+    const int id = static_cast<int>(m.vert.size()) - 1;
+    index[key] = id;
+    return id;
+  };
+  // For each of the 6 faces: axis a fixed at 0 or n, (u, v) spanning the face.
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const int u = (a + 1) % 3, v = (a + 2) % 3;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          auto at = [&](int di, int dj) {
+            std::array<int, 3> c{};
+            c[a] = side * n;
+            c[u] = i + di;
+            c[v] = j + dj;
+            return vertex(c[0], c[1], c[2]);
+          };
+          int q[4] = {at(0, 0), at(1, 0), at(1, 1), at(0, 1)};
+          if (side == 0) std::swap(q[1], q[3]);  // outward orientation on the low side
+          if ((i + j) % 2 == 0) {
+            addFace(m, q[0], q[1], q[2]);
+            addFace(m, q[0], q[2], q[3]);
+          } else {
+            addFace(m, q[0], q[1], q[3]);
+            addFace(m, q[1], q[2], q[3]);
+          }
+        }
+    }
+  if (jitter <= 0) return;
+  const double h = 2.0 / n;
+  for (auto& vtx : m.vert) {
+    auto& p = vtx.P();
+    int onFace = 0;
+    for (int c = 0; c < 3; ++c) onFace += std::abs(std::abs(double(p[c])) - 1.0) < 1e-12;
+    if (onFace >= 3) continue;  // corner
+    for (int c = 0; c < 3; ++c) {
+      if (std::abs(std::abs(double(p[c])) - 1.0) < 1e-12) continue;  // stay on this face/edge
+      p[c] += typename M::ScalarType(uniform(g, -jitter, jitter) * h);
+    }
+  }
 }
 
 }  // namespace sodt_test

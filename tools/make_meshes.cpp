@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Deterministic generator of the project's small test/demo meshes (meshes/):
-// a sliver-rich marching-cubes blob surface, a jittered icosphere, a torus, an open grid.
+// a sliver-rich marching-cubes blob surface, a jittered icosphere, a torus, an open grid,
+// and two cubes with sharp edges (in-plane jitter; noise along the normals).
 
 #include "mesh_check.h"
 
@@ -18,6 +19,7 @@
 #include <wrap/io_trimesh/import_ply.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -300,6 +302,177 @@ bool buildPlaneGrid(MeshF& m) {
 }
 
 // ---------------------------------------------------------------------------
+// cube_jitter.ply, cube_noisy.ply: the cube [-1, 1]^3 with sharp edges and corners.
+//
+// Each cube face is a kCubeCells x kCubeCells grid; the vertices are the
+// surface points of the integer lattice {0..n}^3, so the vertices shared by two
+// or three faces exist once. Vertex i has lattice coordinates cubeLattice[i]; a
+// lattice coordinate equal to 0 or n is "fixed" (the vertex lies on that face
+// plane). One fixed coordinate: face-interior vertex, two: crease (cube edge)
+// vertex, three: corner.
+
+constexpr std::uint32_t kCubeGridSeed = 20205;    // diagonal of each quad
+constexpr std::uint32_t kCubeJitterSeed = 20206;  // cube_jitter.ply displacements
+constexpr std::uint32_t kCubeNoiseSeed = 20207;   // cube_noisy.ply displacements
+constexpr int kCubeCells = 12;                    // cells per face side: 6 n^2 + 2 = 866 vertices
+constexpr double kCubeJitter = 0.35;              // max in-plane displacement per axis / cell size
+constexpr double kCubeNoise = 0.15;               // max normal displacement / cell size
+constexpr double kCubeCell = 2.0 / kCubeCells;    // cell size
+
+using Lattice = std::array<int, 3>;
+
+bool latticeFixed(int c) { return c == 0 || c == kCubeCells; }
+
+/// Position of a lattice point; fixed coordinates are exactly -1 or +1.
+Vec3 cubePoint(const Lattice& l) {
+  Vec3 p;
+  for (int k = 0; k < 3; ++k)
+    p[k] = l[k] == 0 ? -1.0 : l[k] == kCubeCells ? 1.0 : -1.0 + kCubeCell * l[k];
+  return p;
+}
+
+/// Outward normal of the cube face that a triangle of these meshes lies on
+/// (or came from): the axis of the centroid's largest |coordinate|. In both
+/// cube meshes the displacements are far too small for a triangle's centroid
+/// to reach another face's axis (see the README).
+Vec3 cubeFaceNormal(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 g = a + b + c;
+  int k = 0;
+  for (int j = 1; j < 3; ++j)
+    if (std::abs(g[j]) > std::abs(g[k])) k = j;
+  Vec3 n(0, 0, 0);
+  n[k] = g[k] > 0 ? 1.0 : -1.0;
+  return n;
+}
+
+/// No flip against the cube face, and no corner below kJitterMinAngleDeg.
+bool cubeFaceOk(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return sodt::doubleAreaVector(a, b, c) * cubeFaceNormal(a, b, c) > 0 && minAngleDeg(a, b, c) >= kJitterMinAngleDeg;
+}
+
+/// The exact cube: vertices in lattice order (z, y, x), faces -x, +x, -y, +y,
+/// -z, +z, each quad split along a random diagonal (seed kCubeGridSeed), the
+/// triangles wound outwards. Returns the lattice coordinates of the vertices.
+std::vector<Lattice> buildCubeGrid(MeshF& m) {
+  const int n = kCubeCells;
+  std::vector<Lattice> lattice;
+  std::vector<int> index((n + 1) * (n + 1) * (n + 1), -1);
+  auto at = [n](const Lattice& l) { return (l[2] * (n + 1) + l[1]) * (n + 1) + l[0]; };
+  for (int z = 0; z <= n; ++z)
+    for (int y = 0; y <= n; ++y)
+      for (int x = 0; x <= n; ++x) {
+        const Lattice l = {{x, y, z}};
+        if (!latticeFixed(x) && !latticeFixed(y) && !latticeFixed(z)) continue;
+        index[at(l)] = static_cast<int>(lattice.size());
+        lattice.push_back(l);
+      }
+  vcg::tri::Allocator<MeshF>::AddVertices(m, lattice.size());
+  for (std::size_t i = 0; i < lattice.size(); ++i) m.vert[i].P() = toCoordF(cubePoint(lattice[i]));
+
+  Rng rng(kCubeGridSeed);
+  vcg::tri::Allocator<MeshF>::AddFaces(m, 6 * 2 * n * n);
+  int k = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      // (u, v, axis) is a cyclic permutation of (x, y, z), so e_u x e_v = +e_axis:
+      // a -> b -> c winds outwards on the + face and inwards on the - face.
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          auto vp = [&](int di, int dj) {
+            Lattice l;
+            l[axis] = side * n, l[u] = i + di, l[v] = j + dj;
+            return &m.vert[index[at(l)]];
+          };
+          MeshF::VertexPointer a = vp(0, 0), b = vp(1, 0), c = vp(1, 1), d = vp(0, 1);
+          MeshF::VertexPointer tri[2][3];
+          if (rng.coin()) {  // diagonal a-c
+            tri[0][0] = a, tri[0][1] = b, tri[0][2] = c;
+            tri[1][0] = a, tri[1][1] = c, tri[1][2] = d;
+          } else {  // diagonal b-d
+            tri[0][0] = a, tri[0][1] = b, tri[0][2] = d;
+            tri[1][0] = b, tri[1][1] = c, tri[1][2] = d;
+          }
+          for (auto& t : tri) {
+            if (side == 0) std::swap(t[1], t[2]);
+            m.face[k].V(0) = t[0], m.face[k].V(1) = t[1], m.face[k].V(2) = t[2], ++k;
+          }
+        }
+    }
+  return lattice;
+}
+
+bool buildCubeJitter(MeshF& m) {
+  const std::vector<Lattice> lattice = buildCubeGrid(m);
+  Rng rng(kCubeJitterSeed);
+  std::vector<Vec3> base(lattice.size()), offset(lattice.size());
+  for (std::size_t i = 0; i < lattice.size(); ++i) {
+    base[i] = cubePoint(lattice[i]);
+    // Three draws for every vertex; a fixed coordinate ignores its draw, so
+    // face vertices stay on their plane, crease vertices on their edge line,
+    // and corners where they are.
+    for (int k = 0; k < 3; ++k) {
+      const double d = rng.uniform(-kCubeJitter, kCubeJitter) * kCubeCell;
+      offset[i][k] = latticeFixed(lattice[i][k]) ? 0.0 : d;
+    }
+  }
+  jitterVertices(
+      m, [&](int i, double s) { return base[i] + offset[i] * s; }, cubeFaceOk);
+  return true;
+}
+
+bool buildCubeNoisy(MeshF& m) {
+  const std::vector<Lattice> lattice = buildCubeGrid(m);
+  Rng rng(kCubeNoiseSeed);
+  std::vector<Vec3> base(lattice.size()), offset(lattice.size());
+  for (std::size_t i = 0; i < lattice.size(); ++i) {
+    base[i] = cubePoint(lattice[i]);
+    // Direction: the normalised sum of the outward normals of the faces the
+    // vertex lies on (one face, two at a crease, three at a corner).
+    Vec3 dir(0, 0, 0);
+    for (int k = 0; k < 3; ++k)
+      if (latticeFixed(lattice[i][k])) dir[k] = lattice[i][k] == 0 ? -1.0 : 1.0;
+    offset[i] = dir.Normalize() * (rng.uniform(-kCubeNoise, kCubeNoise) * kCubeCell);
+  }
+  jitterVertices(
+      m, [&](int i, double s) { return base[i] + offset[i] * s; }, cubeFaceOk);
+  return true;
+}
+
+/// Checks that need the coordinates of the file as read back.
+struct CubeCheck {
+  int corners = 0;         ///< vertices exactly at (+-1, +-1, +-1)
+  int creases = 0;         ///< vertices with exactly two coordinates equal to +-1
+  int offSurface = 0;      ///< vertices whose largest |coordinate| is not exactly 1
+  int flipped = 0;         ///< faces whose normal points away from their cube face
+  double maxDistance = 0;  ///< largest | max_k |p_k| - 1 |, the L-inf distance to the cube surface
+};
+
+CubeCheck checkCube(const MeshF& m) {
+  CubeCheck c;
+  for (const auto& v : m.vert) {
+    if (v.IsD()) continue;
+    int ones = 0;
+    double big = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double a = std::abs(double(v.cP()[k]));
+      ones += a == 1.0;
+      big = std::max(big, a);
+    }
+    c.corners += ones == 3;
+    c.creases += ones == 2;
+    c.offSurface += big != 1.0;
+    c.maxDistance = std::max(c.maxDistance, std::abs(big - 1.0));
+  }
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    const Vec3 a = toVec3(f.cP(0)), b = toVec3(f.cP(1)), d = toVec3(f.cP(2));
+    c.flipped += !(sodt::doubleAreaVector(a, b, d) * cubeFaceNormal(a, b, d) > 0);
+  }
+  return c;
+}
+
+// ---------------------------------------------------------------------------
 // I/O and checks.
 
 bool endsWith(const std::string& s, const std::string& suffix) {
@@ -338,7 +511,7 @@ bool expect(const std::string& name, std::initializer_list<std::pair<bool, const
   return ok;
 }
 
-bool expectations(const std::string& name, const MeshCheck& c) {
+bool expectations(const std::string& name, const MeshCheck& c, const MeshF& m) {
   const bool clean = c.isolatedVertices == 0 && c.zeroAreaFaces == 0 && c.components == 1;
   if (name == "blobs_mc.ply")
     return expect(name, {{c.closedManifold(), "closed manifold"},
@@ -358,6 +531,31 @@ bool expectations(const std::string& name, const MeshCheck& c) {
   if (name == "plane_grid_open.ply")
     return expect(name, {{c.openManifold() && c.boundaryLoops == 1 && c.eulerCharacteristic() == 1, "a disc"},
                          {clean, "no isolated vertex, no zero-area face, one component"}});
+  const int cubeVertices = 6 * kCubeCells * kCubeCells + 2, cubeFaces = 12 * kCubeCells * kCubeCells;
+  if (name == "cube_jitter.ply") {
+    const CubeCheck q = checkCube(m);
+    return expect(name, {{c.closedManifold() && c.eulerCharacteristic() == 2, "closed sphere"},
+                         {clean, "no isolated vertex, no zero-area face, one component"},
+                         {c.vertices == cubeVertices && c.faces == cubeFaces, "6 n^2 + 2 vertices, 12 n^2 faces"},
+                         {q.corners == 8, "exactly 8 vertices at the cube corners"},
+                         {q.creases == 12 * (kCubeCells - 1), "12 (n - 1) vertices on the cube edges"},
+                         {q.offSurface == 0, "every vertex on the cube surface (max |coordinate| == 1)"},
+                         {q.flipped == 0, "no face flipped against its cube face"},
+                         {std::abs(c.volume - 8.0) < 1e-9, "volume 8 (the faces stay planar)"},
+                         {c.angles.minDeg >= kJitterMinAngleDeg && c.angles.minDeg < 20.0,
+                          "0.5 deg <= min angle < 20 deg"}});
+  }
+  if (name == "cube_noisy.ply") {
+    const CubeCheck q = checkCube(m);
+    const double amplitude = kCubeNoise * kCubeCell;
+    return expect(name, {{c.closedManifold() && c.eulerCharacteristic() == 2, "closed sphere"},
+                         {clean, "no isolated vertex, no zero-area face, one component"},
+                         {c.vertices == cubeVertices && c.faces == cubeFaces, "6 n^2 + 2 vertices, 12 n^2 faces"},
+                         {q.flipped == 0, "no face flipped against its cube face"},
+                         {c.volume > 0, "outward normals (positive volume)"},
+                         {q.maxDistance > 0.5 * amplitude && q.maxDistance <= amplitude * (1 + 1e-6),
+                          "L-inf distance to the cube in (amplitude / 2, amplitude]"}});
+  }
   return true;
 }
 
@@ -392,7 +590,9 @@ int generate(const std::string& outDir) {
   const Job jobs[] = {{"blobs_mc.ply", buildBlobs},
                       {"sphere_jitter.ply", buildSphere},
                       {"torus.off", buildTorus},
-                      {"plane_grid_open.ply", buildPlaneGrid}};
+                      {"plane_grid_open.ply", buildPlaneGrid},
+                      {"cube_jitter.ply", buildCubeJitter},
+                      {"cube_noisy.ply", buildCubeNoisy}};
   int status = 0;
   std::printf("%s\n", sodt::tools::tableHeader());
   for (const Job& job : jobs) {
@@ -416,7 +616,7 @@ int generate(const std::string& outDir) {
     }
     const MeshCheck c = sodt::tools::checkMesh(back);
     std::printf("%s  (%ld bytes)\n", sodt::tools::formatRow(job.file, c).c_str(), fileSize(path));
-    if (!expectations(job.file, c)) status = 1;
+    if (!expectations(job.file, c, back)) status = 1;
   }
   return status;
 }
