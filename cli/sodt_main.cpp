@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Command-line front end: `sodt smooth` runs the S-ODT smoother on a PLY/OFF
-// file, `sodt stats` measures a mesh; summaries on stdout, JSON reports, exit codes.
+// file, `sodt classify` writes the smooth/crease/corner classification of its
+// vertices, `sodt stats` measures a mesh; summaries on stdout, JSON reports,
+// exit codes.
+#include <sodt/classify.h>
 #include <sodt/io.h>
 #include <sodt/json.h>
 #include <sodt/mesh.h>
 #include <sodt/metrics.h>
+#include <sodt/output.h>
 #include <sodt/params.h>
 #include <sodt/smoother.h>
 
@@ -204,6 +208,35 @@ int parseIntValue(const std::string& option, const std::string& s, const std::st
   return static_cast<int>(v);
 }
 
+/// Parses a whole non-negative decimal number ("2", "0.5", "1e-3"): no sign,
+/// no spaces, no hexadecimal, nan or inf. Range checks are left to the caller.
+double parseNonNegativeValue(const std::string& option, const std::string& s, const std::string& helpCmd) {
+  if (s.empty()) throw UsageError("option '" + option + "' needs a number, got ''", helpCmd);
+  if (s[0] == '-') throw UsageError("option '" + option + "' must not be negative, got '" + s + "'", helpCmd);
+  bool ok = (s[0] >= '0' && s[0] <= '9') || s[0] == '.';
+  for (char c : s) ok = ok && ((c >= '0' && c <= '9') || c == '.' || c == 'e' || c == 'E' || c == '+' || c == '-');
+  errno = 0;
+  char* end = nullptr;
+  const double v = ok ? std::strtod(s.c_str(), &end) : 0.0;
+  if (!ok || end != s.c_str() + s.size())
+    throw UsageError("option '" + option + "' needs a number, got '" + s + "'", helpCmd);
+  if (errno == ERANGE || !std::isfinite(v))
+    throw UsageError("option '" + option + "': " + s + " is out of range", helpCmd);
+  return v;
+}
+
+/// Shortest decimal text of a parameter value for messages and summaries ("2", "0.05").
+std::string numberText(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", x);
+  return b;
+}
+
+/// Smallest angle (degrees) between the normals of two equally weighted
+/// planes at which a vertex between them is a crease: Eq. 10 with
+/// nu = (1 + cos t, 1 - cos t, 0) gives crease when cos t < eps / (eps + 2).
+double creaseAngleDeg(double epsilon) { return std::acos(epsilon / (epsilon + 2.0)) * 180.0 / M_PI; }
+
 /// Path with symbolic links and "." / ".." resolved as far as it exists.
 std::string canonicalPath(const std::string& p) {
   if (char* r = ::realpath(p.c_str(), nullptr)) {
@@ -239,19 +272,33 @@ void printMainHelp() {
       "\n"
       "S-ODT surface mesh smoothing: moves every interior vertex in its tangent plane to\n"
       "the closed-form minimiser of the suboptimal Delaunay triangulation energy, which\n"
-      "improves triangle angles while keeping the surface (paper Algorithm 1).\n"
+      "improves triangle angles while keeping the surface (paper Algorithm 1); variants\n"
+      "keep creases and corners (Algorithm 2) or also remove noise (Algorithm 3).\n"
       "\n"
       "commands:\n"
-      "  smooth IN OUT   smooth the triangle mesh IN and write it to OUT\n"
-      "  stats IN        print quality measures of IN as JSON\n"
+      "  smooth IN OUT       smooth the triangle mesh IN and write it to OUT\n"
+      "  classify IN OUT.ply mark every vertex of IN smooth, crease or corner (nothing moves)\n"
+      "  stats IN            print quality measures of IN as JSON\n"
       "\n"
       "Mesh files are PLY or OFF, chosen by extension (case-insensitive); OBJ is not\n"
       "supported. Polygons are fan-triangulated on input.\n"
-      "Run 'sodt smooth --help' or 'sodt stats --help' for the options.\n"
+      "Run 'sodt <command> --help' for the options of a command.\n"
       "\n"
       "exit status: 0 success, 1 unreadable or invalid input or I/O failure,\n"
       "             2 bad command line. Output files are replaced only at the very\n"
       "             end of a successful run, never partially written.\n");
+}
+
+/// The option texts shared by `smooth` and `classify`.
+void printClassOptionsHelp(const sodt::SodtParams& d) {
+  std::printf(
+      "  --epsilon X           crease sensitivity of the vertex classification, > 0\n"
+      "                        (default %s): a vertex between two planes whose normals\n"
+      "                        differ by more than acos(X/(X+2)) is a crease (%.0f deg at\n"
+      "                        the default); larger finds more creases\n"
+      "  --eta X               corner sensitivity, > 0 (default %s): larger makes more\n"
+      "                        of the vertices where creases meet corners\n",
+      numberText(d.epsilon).c_str(), creaseAngleDeg(d.epsilon), numberText(d.eta).c_str());
 }
 
 void printSmoothHelp() {
@@ -262,12 +309,20 @@ void printSmoothHelp() {
       "Smooths the triangle mesh IN with S-ODT and writes the result to OUT (PLY or\n"
       "OFF by OUT's extension; PLY is written binary). Border and non-manifold\n"
       "vertices stay fixed. OUT keeps the per-vertex quality, colour and selection\n"
-      "flags found in IN (PLY; OFF keeps colour only). OUT and the report are written\n"
-      "under temporary names and renamed at the very end, so a failed or interrupted\n"
-      "run leaves them as they were; OUT may be IN itself.\n"
+      "flags found in IN (PLY; OFF keeps colour only). OUT and the other output\n"
+      "files are written under temporary names and renamed at the very end, so a\n"
+      "failed or interrupted run leaves them as they were; OUT may be IN itself.\n"
       "\n"
       "options (defaults are those of the library, sodt::SodtParams):\n"
-      "  --algorithm NAME      vertex update: basic (default %s)\n"
+      "  --algorithm NAME      vertex update (default %s):\n"
+      "                          basic    paper Algorithm 1: every interior vertex moves\n"
+      "                                   in its tangent plane; no feature handling\n"
+      "                          feature  Algorithm 2: vertices are classified once on\n"
+      "                                   the input; corners stay fixed, crease vertices\n"
+      "                                   slide along their crease, smooth ones as basic\n"
+      "                          denoise  Algorithm 3: removes noise while keeping\n"
+      "                                   creases and corners: smooth vertices move on\n"
+      "                                   fitted planes, crease vertices on fitted lines\n"
       "  --iterations N        Gauss-Seidel sweeps, 0..100000 (default %d)\n"
       "  --guard G             safeguard on every move (default %s):\n"
       "                          none     commit every solved move (the paper as written)\n"
@@ -279,18 +334,57 @@ void printSmoothHelp() {
       "  --laplacian-fallback on|off\n"
       "                        when the guard vetoes the S-ODT step, try the tangential\n"
       "                        Laplacian step under the same guard (default %s;\n"
-      "                        not used with --guard none)\n"
+      "                        not used with --guard none)\n",
+      sodt::toString(d.algorithm), d.iterations, sodt::toString(d.guard), d.maxBacktracks,
+      d.laplacianFallback ? "on" : "off");
+  printClassOptionsHelp(d);
+  std::printf(
+      "                        (basic does not classify and ignores both)\n"
+      "  --max-deviation PERCENT\n"
+      "                        basic and feature: a move is rejected when the vertex or\n"
+      "                        its faces would leave the input surface around it by more\n"
+      "                        than PERCENT %% of the bounding-box diagonal, 0..100\n"
+      "                        (default %s; 0 disables; not used with --guard none)\n"
+      "  --max-normal-step X   denoise only: largest move of a vertex along its fitted\n"
+      "                        normal per sweep, as a fraction of the mean edge length,\n"
+      "                        0..10 (default %s)\n"
       "  --selected-only       move only selected vertices. The selection is read from\n"
       "                        the PLY per-vertex 'flags' property (MeshLab: export with\n"
       "                        'Flags' ticked); plain PLY and OFF files select nothing,\n"
       "                        which is an error\n"
-      "  --report FILE.json    write measures before/after, distances and counters as JSON\n"
+      "  --report FILE.json    write measures before/after, distances, counters and the\n"
+      "                        class counts as JSON\n"
+      "  --classes-out FILE.ply\n"
+      "                        also write the smoothed mesh with the class of every vertex\n"
+      "                        as per-vertex quality (0 smooth, 1 crease, 2 corner,\n"
+      "                        3 fixed: border or non-manifold) and colour (grey, blue,\n"
+      "                        red, yellow); PLY only. With basic every interior vertex\n"
+      "                        is smooth\n"
       "  --quiet               no summary on stdout and no progress bar\n"
       "  -h, --help            show this help\n"
       "\n"
       "The progress bar is drawn on stderr only when stderr is a terminal.\n",
-      sodt::toString(d.algorithm), d.iterations, sodt::toString(d.guard), d.maxBacktracks,
-      d.laplacianFallback ? "on" : "off");
+      numberText(100.0 * d.maxDeviationRel).c_str(), numberText(d.maxNormalStepRel).c_str());
+}
+
+void printClassifyHelp() {
+  const sodt::SodtParams d;
+  std::printf(
+      "usage: sodt classify IN OUT.ply [--epsilon X] [--eta X] [--json FILE]\n"
+      "\n"
+      "Classifies every vertex of IN by the normal tensor of its one-ring (paper\n"
+      "Eq. 9-10), as 'sodt smooth --algorithm feature' does before smoothing, and\n"
+      "writes IN unmoved to OUT (PLY only) with the class as per-vertex quality\n"
+      "(0 smooth, 1 crease, 2 corner, 3 fixed: border or non-manifold) and colour\n"
+      "(grey, blue, red, yellow). Prints the number of vertices in each class.\n"
+      "(--algorithm denoise classifies the input after removing its noise; see\n"
+      "'sodt smooth --classes-out'.)\n"
+      "\n"
+      "options:\n");
+  printClassOptionsHelp(d);
+  std::printf(
+      "  --json FILE           also write the counts and parameters as JSON to FILE\n"
+      "  -h, --help            show this help\n");
 }
 
 void printStatsHelp() {
@@ -398,11 +492,58 @@ void writeDistance(sodt::JsonWriter& j, const Distance& d) {
   j.member("hausdorff_is_lower_bound", d.lowerBound);
 }
 
+/// Parses --epsilon / --eta: a number in (0, 1e6) (SodtParams::validate()).
+double parseSensitivity(const std::string& option, const std::string& v, const std::string& helpCmd) {
+  const double x = parseNonNegativeValue(option, v, helpCmd);
+  if (!(x > 0) || !(x < 1e6))
+    throw UsageError("option '" + option + "' must be a positive number below 1e6, got " + v, helpCmd);
+  return x;
+}
+
+/// Rejects a file name whose extension is not .ply (per-vertex quality is PLY only).
+void checkPlyPath(const std::string& option, const std::string& path, const std::string& helpCmd) {
+  bool ply = false;
+  try {
+    ply = sodt::meshFormatFromPath(path) == sodt::MeshFormat::Ply;
+  } catch (const sodt::InvalidInput&) {
+  }
+  if (!ply)
+    throw UsageError(option + " must be a .ply file (only PLY stores per-vertex quality), got '" + path + "'",
+                     helpCmd);
+}
+
+/// Writes m with the classes as per-vertex quality and colour (output.h).
+/// Overwrites m's quality and colour.
+void saveClassMesh(sodt::PendingFile& f, MeshD& m, const sodt::Classification& c) {
+  sodt::writeClassToQuality(m, c);
+  sodt::colorizeByClass(m, c);
+  sodt::SaveOptions so;
+  so.vertexQuality = true;
+  so.vertexColor = true;
+  sodt::saveMesh(f, m, so);
+}
+
+/// Writes "classes": {"smooth": n, "crease": n, "corner": n, "fixed": n}.
+void writeClassCounts(sodt::JsonWriter& j, const sodt::Classification& c) {
+  j.key("classes").beginObject();
+  for (int k = 0; k < 4; ++k) j.member(sodt::toString(static_cast<sodt::VertexClass>(k)), c.count[k]);
+  j.endObject();
+}
+
+/// "smooth 1200, crease 80, corner 8, fixed 0".
+std::string classCountsText(const sodt::Classification& c) {
+  std::string s;
+  for (int k = 0; k < 4; ++k)
+    s += std::string(k ? ", " : "") + sodt::toString(static_cast<sodt::VertexClass>(k)) + " " +
+         std::to_string(c.count[k]);
+  return s;
+}
+
 // ---------------------------------------------------------------------------
 // sodt smooth
 
 struct SmoothOptions {
-  std::string in, out, report;
+  std::string in, out, report, classesOut;
   sodt::SodtParams params;
   bool quiet = false;
 };
@@ -413,7 +554,9 @@ const char* const kSmoothHelp = "sodt smooth --help";
 bool parseSmooth(const std::vector<std::string>& args, SmoothOptions& o) {
   static const std::vector<OptionSpec> specs = {
       {"--algorithm", true}, {"--iterations", true}, {"--guard", true},  {"--max-backtracks", true},
-      {"--laplacian-fallback", true}, {"--selected-only", false}, {"--report", true}, {"--quiet", false}};
+      {"--laplacian-fallback", true}, {"--selected-only", false}, {"--report", true}, {"--quiet", false},
+      {"--epsilon", true}, {"--eta", true}, {"--max-deviation", true}, {"--max-normal-step", true},
+      {"--classes-out", true}};
   const ParsedArgs a = parseArgs(args, specs, kSmoothHelp);
   if (a.help) {
     printSmoothHelp();
@@ -442,6 +585,19 @@ bool parseSmooth(const std::vector<std::string>& args, SmoothOptions& o) {
         o.report = v;
       } else if (name == "--quiet") {
         o.quiet = true;
+      } else if (name == "--epsilon" || name == "--eta") {
+        (name == "--epsilon" ? o.params.epsilon : o.params.eta) = parseSensitivity(name, v, kSmoothHelp);
+      } else if (name == "--max-deviation") {
+        const double pct = parseNonNegativeValue(name, v, kSmoothHelp);
+        if (pct > 100) throw UsageError("option '--max-deviation' must be in [0, 100] percent, got " + v, kSmoothHelp);
+        o.params.maxDeviationRel = pct / 100.0;
+      } else if (name == "--max-normal-step") {
+        const double x = parseNonNegativeValue(name, v, kSmoothHelp);
+        if (x > 10) throw UsageError("option '--max-normal-step' must be in [0, 10], got " + v, kSmoothHelp);
+        o.params.maxNormalStepRel = x;
+      } else if (name == "--classes-out") {
+        if (v.empty()) throw UsageError("option '--classes-out' needs a file name", kSmoothHelp);
+        o.classesOut = v;
       }
     } catch (const sodt::InvalidInput& e) {
       throw UsageError("option '" + name + "': " + e.what(), kSmoothHelp);
@@ -468,6 +624,13 @@ bool parseSmooth(const std::vector<std::string>& args, SmoothOptions& o) {
     if (samePath(o.report, o.out)) throw UsageError("--report and OUT are the same file", kSmoothHelp);
     if (samePath(o.report, o.in)) throw UsageError("--report would overwrite the input", kSmoothHelp);
   }
+  if (!o.classesOut.empty()) {
+    checkPlyPath("--classes-out", o.classesOut, kSmoothHelp);
+    if (samePath(o.classesOut, o.out)) throw UsageError("--classes-out and OUT are the same file", kSmoothHelp);
+    if (samePath(o.classesOut, o.in)) throw UsageError("--classes-out would overwrite the input", kSmoothHelp);
+    if (!o.report.empty() && samePath(o.classesOut, o.report))
+      throw UsageError("--classes-out and --report are the same file", kSmoothHelp);
+  }
   return true;
 }
 
@@ -479,7 +642,7 @@ std::string percent(double frac) {
 
 void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const Measures& before, const Measures& after,
                         const Distance& dist, long long inverted, const sodt::SodtStats& st,
-                        double seconds) {
+                        const sodt::Classification& cls, double seconds) {
   std::printf("sodt smooth: %s -> %s\n", o.in.c_str(), o.out.c_str());
   std::printf("  mesh           %d vertices, %d triangles, %s\n", m.vn, m.fn,
               before.volume.closed ? "closed" : "open or not consistently oriented");
@@ -511,14 +674,26 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const Measures& 
               st.moved, st.backtracked, st.fallbackMoves, st.rejected, st.failedSolves, st.unchanged);
   std::printf("  fixed          %d boundary, %d non-manifold; %d vertices active\n", st.fixedBoundary,
               st.fixedNonManifold, st.activeVertices);
+  std::printf("  classes        %s%s\n", classCountsText(cls).c_str(),
+              o.params.algorithm == sodt::Algorithm::Basic ? " (basic does not classify)" : "");
   std::printf("  smoothing      %.3f s for %d sweeps (algorithm %s, guard %s, max backtracks %d)\n", seconds,
               st.iterations, sodt::toString(o.params.algorithm), sodt::toString(o.params.guard),
               o.params.maxBacktracks);
+  const sodt::Algorithm a = o.params.algorithm;
+  const char* unused = " (unused)";
+  std::printf("  parameters     epsilon %s (creases above %.1f deg), eta %s%s; max deviation %s%% of the bbox "
+              "diagonal%s; max normal step %s mean edges%s\n",
+              numberText(o.params.epsilon).c_str(), creaseAngleDeg(o.params.epsilon),
+              numberText(o.params.eta).c_str(), a == sodt::Algorithm::Basic ? unused : "",
+              numberText(100.0 * o.params.maxDeviationRel).c_str(),
+              a == sodt::Algorithm::Denoise || o.params.guard == sodt::Guard::None ? unused : "",
+              numberText(o.params.maxNormalStepRel).c_str(), a != sodt::Algorithm::Denoise ? unused : "");
+  if (!o.classesOut.empty()) std::printf("  classes out    %s\n", o.classesOut.c_str());
 }
 
 std::string smoothReport(const SmoothOptions& o, const MeshD& m, const Measures& before, const Measures& after,
                          const Distance& dist, long long inverted, const sodt::SodtStats& st,
-                         double seconds) {
+                         const sodt::Classification& cls, double seconds) {
   sodt::JsonWriter j;
   j.beginObject();
   j.member("sodt_version", SODT_VERSION);
@@ -532,6 +707,14 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const Measures&
   j.member("max_backtracks", o.params.maxBacktracks);
   j.member("laplacian_fallback", o.params.laplacianFallback);
   j.member("selected_only", o.params.selectedOnly);
+  j.member("epsilon", o.params.epsilon);
+  j.member("eta", o.params.eta);
+  j.member("max_deviation_percent", 100.0 * o.params.maxDeviationRel);
+  j.member("max_normal_step", o.params.maxNormalStepRel);
+  if (o.classesOut.empty())
+    j.memberNull("classes_output");
+  else
+    j.member("classes_output", o.classesOut);
   j.member("sweeps", st.iterations);
   j.member("seconds", seconds);
   j.member("min_angle_before", before.angles.minDeg);
@@ -565,6 +748,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const Measures&
   j.member("fixed_boundary", st.fixedBoundary);
   j.member("fixed_nonmanifold", st.fixedNonManifold);
   j.member("cancelled", st.cancelled);
+  writeClassCounts(j, cls);
   j.key("before").beginObject();
   writeMeasures(j, before);
   j.endObject();
@@ -589,6 +773,11 @@ int runSmooth(const std::vector<std::string>& args) {
     report.reset(new sodt::PendingFile(o.report));
     trackTemporary(*report);
   }
+  std::unique_ptr<sodt::PendingFile> classesOut;
+  if (!o.classesOut.empty()) {
+    classesOut.reset(new sodt::PendingFile(o.classesOut));
+    trackTemporary(*classesOut);
+  }
 
   MeshD m;
   sodt::LoadInfo info;
@@ -604,7 +793,8 @@ int runSmooth(const std::vector<std::string>& args) {
 
   progressCallback(0, ("S-ODT sweep 0/" + std::to_string(o.params.iterations)).c_str());
   const auto t0 = std::chrono::steady_clock::now();
-  const sodt::SodtStats st = sodt::SodtSmoother<MeshD>::Apply(m, o.params, &progressCallback);
+  sodt::Classification cls;
+  const sodt::SodtStats st = sodt::SodtSmoother<MeshD>::Apply(m, o.params, &progressCallback, &cls);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   gStatus.end(true);
   if (st.cancelled) throw std::runtime_error("smoothing was cancelled");
@@ -621,12 +811,17 @@ int runSmooth(const std::vector<std::string>& args) {
   so.vertexColor = info.vertexColor;
   so.vertexSelection = info.vertexSelection;
   sodt::saveMesh(out, m, so);
-  if (report) sodt::writeText(*report, smoothReport(o, m, before, after, dist, inverted, st, seconds));
+  if (report) sodt::writeText(*report, smoothReport(o, m, before, after, dist, inverted, st, cls, seconds));
+  if (classesOut) {
+    gStatus.draw("writing " + baseName(o.classesOut) + "...");
+    saveClassMesh(*classesOut, m, cls);  // after OUT: replaces m's quality and colour
+  }
   gStatus.end(false);
   out.commit();
+  if (classesOut) classesOut->commit();
   if (report) report->commit();
 
-  if (!o.quiet) printSmoothSummary(o, m, before, after, dist, inverted, st, seconds);
+  if (!o.quiet) printSmoothSummary(o, m, before, after, dist, inverted, st, cls, seconds);
   return kExitOk;
 }
 
@@ -697,6 +892,85 @@ int runStats(const std::vector<std::string>& args) {
   return kExitOk;
 }
 
+// ---------------------------------------------------------------------------
+// sodt classify
+
+const char* const kClassifyHelp = "sodt classify --help";
+
+int runClassify(const std::vector<std::string>& args) {
+  static const std::vector<OptionSpec> specs = {{"--epsilon", true}, {"--eta", true}, {"--json", true}};
+  const ParsedArgs a = parseArgs(args, specs, kClassifyHelp);
+  if (a.help) {
+    printClassifyHelp();
+    return kExitOk;
+  }
+  sodt::SodtParams p;
+  std::string jsonPath;
+  for (const auto& kv : a.options) {
+    if (kv.first == "--json") {
+      if (kv.second.empty()) throw UsageError("option '--json' needs a file name", kClassifyHelp);
+      jsonPath = kv.second;
+    } else {
+      (kv.first == "--epsilon" ? p.epsilon : p.eta) = parseSensitivity(kv.first, kv.second, kClassifyHelp);
+    }
+  }
+  if (a.positionals.size() != 2)
+    throw UsageError("'sodt classify' needs an input and an output file, got " +
+                         std::to_string(a.positionals.size()) + " file argument" +
+                         (a.positionals.size() == 1 ? "" : "s"),
+                     kClassifyHelp);
+  const std::string in = a.positionals[0], outPath = a.positionals[1];
+  checkPlyPath("OUT", outPath, kClassifyHelp);
+  if (samePath(outPath, in)) throw UsageError("OUT would overwrite the input", kClassifyHelp);
+  if (!jsonPath.empty()) {
+    if (samePath(jsonPath, outPath)) throw UsageError("--json and OUT are the same file", kClassifyHelp);
+    if (samePath(jsonPath, in)) throw UsageError("--json would overwrite the input", kClassifyHelp);
+  }
+
+  sodt::PendingFile out(outPath);
+  trackTemporary(out);
+  std::unique_ptr<sodt::PendingFile> jsonOut;
+  if (!jsonPath.empty()) {
+    jsonOut.reset(new sodt::PendingFile(jsonPath));
+    trackTemporary(*jsonOut);
+  }
+
+  MeshD m;
+  loadInput(in, m, nullptr);
+  gStatus.draw("classifying...");
+  const sodt::Classification cls = sodt::classifyVertices(m, p.epsilon, p.eta);
+  gStatus.end(false);
+
+  gStatus.draw("writing " + baseName(outPath) + "...");
+  saveClassMesh(out, m, cls);
+  if (jsonOut) {
+    sodt::JsonWriter j;
+    j.beginObject();
+    j.member("sodt_version", SODT_VERSION);
+    j.member("input", in);
+    j.member("output", outPath);
+    j.member("vertices", m.vn);
+    j.member("faces", m.fn);
+    j.member("epsilon", p.epsilon);
+    j.member("eta", p.eta);
+    j.member("crease_angle_deg", creaseAngleDeg(p.epsilon));
+    writeClassCounts(j, cls);
+    j.endObject();
+    sodt::writeText(*jsonOut, j.str());
+  }
+  gStatus.end(false);
+  out.commit();
+  if (jsonOut) jsonOut->commit();
+
+  std::printf("sodt classify: %s -> %s\n", in.c_str(), outPath.c_str());
+  std::printf("  mesh           %d vertices, %d triangles\n", m.vn, m.fn);
+  std::printf("  parameters     epsilon %s (creases above %.1f deg), eta %s\n", numberText(p.epsilon).c_str(),
+              creaseAngleDeg(p.epsilon), numberText(p.eta).c_str());
+  std::printf("  classes        %s\n", classCountsText(cls).c_str());
+  std::printf("  quality        0 smooth, 1 crease, 2 corner, 3 fixed (border or non-manifold)\n");
+  return kExitOk;
+}
+
 int run(const std::vector<std::string>& args) {
   if (args.empty()) throw UsageError("no command given", "sodt --help");
   const std::string& cmd = args[0];
@@ -711,8 +985,9 @@ int run(const std::vector<std::string>& args) {
   }
   if (cmd == "smooth") return runSmooth(rest);
   if (cmd == "stats") return runStats(rest);
+  if (cmd == "classify") return runClassify(rest);
   if (!cmd.empty() && cmd[0] == '-') throw UsageError("unknown option '" + cmd + "'", "sodt --help");
-  throw UsageError("unknown command '" + cmd + "' (expected smooth or stats)", "sodt --help");
+  throw UsageError("unknown command '" + cmd + "' (expected smooth, classify or stats)", "sodt --help");
 }
 
 }  // namespace

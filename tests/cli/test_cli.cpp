@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // End-to-end tests of the `sodt` executable: exit codes and messages on bad
 // input, outputs never created or modified on failure, reports, round trips.
+// Meshes the binary writes are read back with the project's own loader.
 #include <gtest/gtest.h>
+
+#include <sodt/io.h>
+#include <sodt/output.h>
 
 #include <algorithm>
 #include <cmath>
@@ -227,6 +231,91 @@ std::string toPlyWithFlags(const SimpleMesh& m, int selected) {
   return s;
 }
 
+/// The cube [-1, 1]^3, each face an n x n grid of squares split along the
+/// same diagonal, vertices welded (6 n^2 + 2 of them), faces wound outwards.
+SimpleMesh subdividedCube(int n) {
+  SimpleMesh m;
+  std::map<std::vector<int>, int> index;  // lattice coordinates 0..n per axis
+  auto vertex = [&](const std::vector<int>& l) {
+    const auto it = index.find(l);
+    if (it != index.end()) return it->second;
+    for (int k = 0; k < 3; ++k) m.xyz.push_back(-1.0 + 2.0 * l[k] / n);
+    const int v = m.vertices() - 1;
+    index[l] = v;
+    return v;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int u = (axis + 1) % 3, w = (axis + 2) % 3;  // e_u x e_w = e_axis
+      auto at = [&](int i, int j) {
+        std::vector<int> l(3);
+        l[axis] = side * n;
+        l[u] = i;
+        l[w] = j;
+        return vertex(l);
+      };
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const int a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+          const int quad[2][3] = {{a, b, c}, {a, c, d}};
+          for (const auto& t : quad) {
+            if (side == 1)
+              m.tri.insert(m.tri.end(), {t[0], t[1], t[2]});
+            else
+              m.tri.insert(m.tri.end(), {t[0], t[2], t[1]});
+          }
+        }
+    }
+  return m;
+}
+
+/// Number of coordinates of p at +-1 (to float precision): 1 on a cube face,
+/// 2 on a cube edge, 3 at a cube corner.
+int coordinatesOnCubeBoundary(const vcg::Point3d& p) {
+  int n = 0;
+  for (int k = 0; k < 3; ++k) n += std::fabs(std::fabs(p[k]) - 1.0) < 1e-6;
+  return n;
+}
+
+/// What a classes mesh (classify OUT, smooth --classes-out) holds.
+struct ClassMesh {
+  std::vector<vcg::Point3d> pos;  ///< per vertex, in file order
+  std::vector<double> quality;    ///< per vertex
+  sodt::LoadInfo info;
+  int count[4] = {0, 0, 0, 0};  ///< vertices per quality 0..3
+  int badQuality = 0;           ///< vertices whose quality is not 0, 1, 2 or 3
+  int badColor = 0;             ///< vertices whose colour is not the palette colour of their class
+};
+
+/// Loads a classes mesh and checks every vertex against the documented
+/// contract: quality in {0, 1, 2, 3}, colour sodt::classColor(quality).
+ClassMesh readClassMesh(const std::string& path) {
+  ClassMesh r;
+  sodt::MeshD m;
+  sodt::loadMesh(path, m, &r.info);
+  for (const auto& v : m.vert) {
+    r.pos.push_back(v.cP());
+    r.quality.push_back(v.cQ());
+    const double q = v.cQ();
+    const int c = static_cast<int>(q);
+    if (q != c || c < 0 || c > 3) {
+      ++r.badQuality;
+      continue;
+    }
+    ++r.count[c];
+    if (v.cC() != sodt::classColor(static_cast<sodt::VertexClass>(c))) ++r.badColor;
+  }
+  return r;
+}
+
+/// The integer after "key": inside the "classes" object of a JSON text (NaN when absent).
+double jsonClassCount(const std::string& json, const std::string& key) {
+  const std::size_t at = json.find("\"classes\": {");
+  if (at == std::string::npos) return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t end = json.find('}', at);
+  return jsonNumber(json.substr(at, end - at), key);
+}
+
 /// A test directory holding in.off, a jittered icosphere with 642 vertices.
 class CliTest : public ::testing::Test {
  protected:
@@ -339,15 +428,77 @@ TEST_F(CliTest, SelectedOnlyWithoutSelectionIsUsageError) {
   expectOnly({"in.off"});
 }
 
+TEST_F(CliTest, BadFeatureParameterValuesAreUsageErrors) {
+  const std::string out = dir_ / "out.ply";
+  const std::vector<std::string> notNumbers = {"abc", "1e", "nan", "inf", "-1", "", " 2", "0x10", "1,5", "--"};
+  for (const char* opt : {"--epsilon", "--eta", "--max-deviation", "--max-normal-step"}) {
+    for (const std::string& v : notNumbers) {
+      const RunResult r = runSodt({"smooth", in_, out, opt, v}, dir_);
+      expectUsageError(r);
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << opt << " " << v << ": " << r.err;
+      EXPECT_NE(r.err.find(opt), std::string::npos) << r.err;
+    }
+    expectUsageError(runSodt({"smooth", in_, out, std::string(opt) + "=-0.5"}, dir_));
+    expectUsageError(runSodt({"smooth", in_, out, opt, "1e999"}, dir_));
+  }
+  // Out of range: sensitivities must be positive, percentages at most 100.
+  expectUsageError(runSodt({"smooth", in_, out, "--epsilon", "0"}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--eta", "0.0"}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--eta", "1e7"}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--max-deviation", "100.5"}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--max-normal-step", "11"}, dir_));
+  expectUsageError(runSodt({"classify", in_, dir_ / "c.ply", "--epsilon", "abc"}, dir_));
+  expectUsageError(runSodt({"classify", in_, dir_ / "c.ply", "--eta", "-2"}, dir_));
+  expectUsageError(runSodt({"classify", in_, dir_ / "c.ply", "--max-deviation", "1"}, dir_));
+  expectOnly({"in.off"});
+}
+
+TEST_F(CliTest, ClassesOutMustBeANewPlyFile) {
+  const std::string out = dir_ / "out.ply", report = dir_ / "r.json";
+  RunResult r = runSodt({"smooth", in_, out, "--classes-out", out}, dir_);
+  expectUsageError(r);
+  EXPECT_NE(r.err.find("--classes-out"), std::string::npos) << r.err;
+  expectUsageError(runSodt({"smooth", in_, out, "--classes-out", dir_ / "./out.ply"}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--classes-out", in_}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--classes-out", dir_ / "c.off"}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--classes-out", dir_ / "c.json", "--report", report}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--classes-out", report, "--report", report}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--classes-out="}, dir_));
+  expectOnly({"in.off"});
+}
+
+TEST_F(CliTest, ClassifyUsageErrors) {
+  const std::string out = dir_ / "c.ply";
+  expectUsageError(runSodt({"classify", in_}, dir_));
+  expectUsageError(runSodt({"classify", in_, out, dir_ / "d.ply"}, dir_));
+  expectUsageError(runSodt({"classify", in_, dir_ / "c.off"}, dir_));  // quality needs PLY
+  expectUsageError(runSodt({"classify", in_, out, "--json", out}, dir_));
+  expectUsageError(runSodt({"classify", in_, out, "--json", in_}, dir_));
+  expectUsageError(runSodt({"classify", in_, out, "--iterations", "3"}, dir_));
+  const std::string ply = dir_ / "in.ply";
+  writeFile(ply, toPlyWithFlags(mesh_, 0));
+  expectUsageError(runSodt({"classify", ply, ply}, dir_));  // would replace the input's quality
+  expectOnly({"in.off", "in.ply"});
+  expectFailure(runSodt({"classify", dir_ / "nope.off", out}, dir_));
+  expectOnly({"in.off", "in.ply"});
+}
+
 TEST_F(CliTest, HelpAndVersion) {
   RunResult r = runSodt({"--help"}, dir_);
   EXPECT_EQ(r.exitCode, 0);
   EXPECT_NE(r.out.find("usage: sodt"), std::string::npos);
   r = runSodt({"smooth", "--help"}, dir_);
   EXPECT_EQ(r.exitCode, 0);
-  for (const char* opt : {"--iterations", "--guard", "--max-backtracks", "--selected-only", "--report", "--quiet"})
+  for (const char* opt : {"--iterations", "--guard", "--max-backtracks", "--selected-only", "--report", "--quiet",
+                          "--algorithm", "feature", "denoise", "--epsilon", "--eta", "--max-deviation",
+                          "--max-normal-step", "--classes-out"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
   EXPECT_NE(r.out.find("(default "), std::string::npos);
+  EXPECT_NE(r.out.find("(default 0.1;"), std::string::npos) << "--max-deviation default from SodtParams";
+  r = runSodt({"classify", "--help"}, dir_);
+  EXPECT_EQ(r.exitCode, 0);
+  for (const char* opt : {"--epsilon", "--eta", "--json"}) EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
+  EXPECT_NE(runSodt({"--help"}, dir_).out.find("classify"), std::string::npos);
   r = runSodt({"stats", "-h"}, dir_);
   EXPECT_EQ(r.exitCode, 0);
   EXPECT_NE(r.out.find("--reference"), std::string::npos);
@@ -610,6 +761,178 @@ TEST_F(CliTest, PlyWithLongHeaderCommentLoads) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(jsonNumber(r.out, "vertices"), mesh_.vertices());
   expectOnly({"in.off", "long.ply"});
+}
+
+TEST_F(CliTest, FeatureAndDenoiseReportTheClassCounts) {
+  const std::string mesh = std::string(SODT_MESH_DIR) + "/blobs_mc.ply";
+  if (!exists(mesh)) GTEST_SKIP() << mesh << " is missing (generated into meshes/)";
+  for (const char* algo : {"feature", "denoise"}) {
+    const std::string out = dir_ / (std::string("out_") + algo + ".ply"), report = dir_ / "r.json";
+    const RunResult r = runSodt({"smooth", mesh, out, "--algorithm", algo, "--iterations", "5", "--report", report},
+                                dir_);
+    ASSERT_EQ(r.exitCode, 0) << algo << ": " << r.err;
+    EXPECT_NE(r.out.find("classes        smooth "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("epsilon 2"), std::string::npos) << r.out;
+    const std::string json = readFile(report);
+    EXPECT_NE(json.find(std::string("\"algorithm\": \"") + algo + "\""), std::string::npos) << json;
+    EXPECT_EQ(jsonNumber(json, "epsilon"), 2.0);
+    EXPECT_EQ(jsonNumber(json, "eta"), 2.0);
+    EXPECT_NEAR(jsonNumber(json, "max_deviation_percent"), 0.1, 1e-12);
+    EXPECT_NEAR(jsonNumber(json, "max_normal_step"), 0.05, 1e-12);
+    double total = 0;
+    for (const char* k : {"smooth", "crease", "corner", "fixed"}) {
+      const double n = jsonClassCount(json, k);
+      ASSERT_TRUE(n >= 0) << k << "\n" << json;
+      total += n;
+    }
+    EXPECT_EQ(total, jsonNumber(json, "vertices"));
+    EXPECT_GT(jsonClassCount(json, "smooth"), 0.5 * total) << "a smooth blob is mostly smooth";
+    EXPECT_EQ(jsonClassCount(json, "fixed"), 0) << "closed manifold";
+    // Corners never move, so they are not active.
+    EXPECT_EQ(jsonNumber(json, "active_vertices"), total - jsonClassCount(json, "corner"));
+    EXPECT_EQ(jsonNumber(json, "inverted_faces"), 0);
+  }
+
+  // Basic classifies nothing: every interior vertex is smooth.
+  const std::string report = dir_ / "basic.json";
+  ASSERT_EQ(runSodt({"smooth", in_, dir_ / "b.ply", "--iterations", "1", "--report", report, "--quiet"}, dir_).exitCode,
+            0);
+  const std::string json = readFile(report);
+  EXPECT_EQ(jsonClassCount(json, "smooth"), mesh_.vertices());
+  EXPECT_EQ(jsonClassCount(json, "crease") + jsonClassCount(json, "corner"), 0);
+}
+
+TEST_F(CliTest, ParametersReachTheReport) {
+  const std::string report = dir_ / "r.json";
+  const RunResult r =
+      runSodt({"smooth", in_, dir_ / "out.ply", "--algorithm", "feature", "--epsilon", "3.5", "--eta=0.25",
+               "--max-deviation", "0.5", "--max-normal-step", "1e-1", "--iterations", "2", "--report", report},
+              dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string json = readFile(report);
+  EXPECT_EQ(jsonNumber(json, "epsilon"), 3.5);
+  EXPECT_EQ(jsonNumber(json, "eta"), 0.25);
+  EXPECT_NEAR(jsonNumber(json, "max_deviation_percent"), 0.5, 1e-12);
+  EXPECT_NEAR(jsonNumber(json, "max_normal_step"), 0.1, 1e-12);
+  EXPECT_NE(r.out.find("epsilon 3.5"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("max deviation 0.5%"), std::string::npos) << r.out;
+  // 0 disables the deviation guard: accepted.
+  EXPECT_EQ(runSodt({"smooth", in_, dir_ / "out.ply", "--max-deviation", "0", "--iterations", "1", "--quiet"}, dir_)
+                .exitCode,
+            0);
+}
+
+TEST_F(CliTest, ClassesOutHoldsClassCodesAndPalette) {
+  const std::string cube = dir_ / "cube.off", out = dir_ / "out.ply", classes = dir_ / "classes.ply",
+                    report = dir_ / "r.json";
+  const int n = 6;
+  writeFile(cube, toOff(subdividedCube(n)));
+  const RunResult r = runSodt({"smooth", cube, out, "--algorithm", "feature", "--iterations", "3", "--report",
+                               report, "--classes-out", classes, "--quiet"},
+                              dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  expectOnly({"in.off", "cube.off", "out.ply", "classes.ply", "r.json"});
+
+  const ClassMesh c = readClassMesh(classes);
+  EXPECT_TRUE(c.info.vertexQuality);
+  EXPECT_TRUE(c.info.vertexColor);
+  EXPECT_EQ(c.pos.size(), 6u * n * n + 2);
+  EXPECT_EQ(c.badQuality, 0);
+  EXPECT_EQ(c.badColor, 0);
+  // The file's classes are the ones of the report.
+  const std::string json = readFile(report);
+  const char* names[4] = {"smooth", "crease", "corner", "fixed"};
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(c.count[k], jsonClassCount(json, names[k])) << names[k];
+  EXPECT_EQ(c.count[2], 8);
+  EXPECT_EQ(c.count[1], 12 * (n - 1));
+
+  // Same geometry as OUT, which keeps the input's (absent) quality and colour.
+  sodt::MeshD o;
+  sodt::LoadInfo oi;
+  sodt::loadMesh(out, o, &oi);
+  EXPECT_FALSE(oi.vertexQuality);
+  ASSERT_EQ(static_cast<std::size_t>(o.vn), c.pos.size());
+  for (int i = 0; i < o.vn; ++i) EXPECT_EQ(o.vert[i].cP(), c.pos[i]) << i;
+
+  // An open grid: its border vertices are class 3.
+  const std::string open = std::string(SODT_MESH_DIR) + "/plane_grid_open.ply";
+  if (exists(open)) {
+    ASSERT_EQ(runSodt({"smooth", open, out, "--iterations", "1", "--classes-out", classes, "--quiet"}, dir_).exitCode,
+              0);
+    const ClassMesh p = readClassMesh(classes);
+    EXPECT_EQ(p.badQuality + p.badColor, 0);
+    EXPECT_EQ(p.count[3], 4 * 19) << "the border of the 20 x 20 grid";
+    EXPECT_EQ(p.count[0], 400 - 4 * 19);
+  }
+}
+
+TEST_F(CliTest, ClassifyCubeFindsEdgesAndCorners) {
+  const int n = 5;
+  const std::string cube = dir_ / "cube.off", out = dir_ / "cube_classes.ply", json = dir_ / "c.json";
+  writeFile(cube, toOff(subdividedCube(n)));
+  const RunResult r = runSodt({"classify", cube, out, "--json", json}, dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("corner 8"), std::string::npos) << r.out;
+  const ClassMesh c = readClassMesh(out);
+  EXPECT_TRUE(c.info.vertexQuality && c.info.vertexColor);
+  EXPECT_EQ(c.badQuality + c.badColor, 0);
+  ASSERT_EQ(c.pos.size(), 6u * n * n + 2);
+  int wrong = 0;
+  for (std::size_t i = 0; i < c.pos.size(); ++i) {
+    const int expected = std::max(0, coordinatesOnCubeBoundary(c.pos[i]) - 1);  // face 0, edge 1, corner 2
+    if (c.quality[i] != expected) ++wrong;
+  }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(c.count[2], 8);
+  EXPECT_EQ(c.count[1], 12 * (n - 1));
+  const std::string j = readFile(json);
+  EXPECT_EQ(jsonClassCount(j, "corner"), 8);
+  EXPECT_EQ(jsonClassCount(j, "crease"), 12 * (n - 1));
+  EXPECT_EQ(jsonClassCount(j, "smooth"), 6 * (n - 1) * (n - 1));
+  EXPECT_EQ(jsonClassCount(j, "fixed"), 0);
+  EXPECT_EQ(jsonNumber(j, "epsilon"), 2.0);
+
+  // Nothing moves: the classes mesh has the input's coordinates.
+  const RunResult s = runSodt({"stats", out, "--reference", cube}, dir_);
+  ASSERT_EQ(s.exitCode, 0) << s.err;
+  EXPECT_EQ(jsonNumber(s.out, "hausdorff_rel"), 0.0);
+
+  // The sensitivities are used: a tiny eta turns corners whose three faces
+  // have unequal weights into creases; a huge epsilon calls even the smooth
+  // sphere's vertices creases or corners.
+  ASSERT_EQ(runSodt({"classify", cube, out, "--eta", "0.01"}, dir_).exitCode, 0);
+  EXPECT_LT(readClassMesh(out).count[2], 8);
+  ASSERT_EQ(runSodt({"classify", in_, out, "--epsilon", "1000"}, dir_).exitCode, 0);
+  EXPECT_GT(readClassMesh(out).count[1], 0);
+}
+
+TEST_F(CliTest, ClassifyBundledCubeJitter) {
+  const std::string cube = std::string(SODT_MESH_DIR) + "/cube_jitter.ply";
+  if (!exists(cube)) GTEST_SKIP() << cube << " is missing (generated into meshes/)";
+  const std::string out = dir_ / "c.ply";
+  const RunResult r = runSodt({"classify", cube, out}, dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const ClassMesh c = readClassMesh(out);
+  EXPECT_EQ(c.badQuality + c.badColor, 0);
+  int wrong = 0;
+  for (std::size_t i = 0; i < c.pos.size(); ++i)
+    if (c.quality[i] != std::max(0, coordinatesOnCubeBoundary(c.pos[i]) - 1)) ++wrong;
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(c.count[2], 8);
+}
+
+TEST_F(CliTest, ClassifySphereHasNoCorner) {
+  const std::string sphere = std::string(SODT_MESH_DIR) + "/sphere_jitter.ply";
+  if (!exists(sphere)) GTEST_SKIP() << sphere << " is missing (generated into meshes/)";
+  const std::string out = dir_ / "s.ply", json = dir_ / "s.json";
+  const RunResult r = runSodt({"classify", sphere, out, "--json", json}, dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const ClassMesh c = readClassMesh(out);
+  EXPECT_EQ(c.badQuality + c.badColor, 0);
+  EXPECT_EQ(c.count[2], 0);
+  EXPECT_EQ(c.count[1], 0);
+  EXPECT_EQ(static_cast<std::size_t>(c.count[0]), c.pos.size());
+  EXPECT_EQ(jsonClassCount(readFile(json), "corner"), 0);
 }
 
 TEST_F(CliTest, BundledBlobsMesh) {
