@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// MeshLab 2020.09 "S-ODT Smoothing" filter: translates the dialog/script values,
-// calls sodt::SodtSmoother on CMeshO and logs quality before and after.
+// MeshLab 2020.09 filters "S-ODT Smoothing" and "S-ODT: Classify Feature Vertices":
+// translate the dialog/script values, call the core on CMeshO, log the results.
 #include "filter_sodt.h"
 
 #include "sodt_rich_params.h"
 
+#include <sodt/classify.h>
 #include <sodt/metrics.h>
+#include <sodt/output.h>
 #include <sodt/params.h>
 #include <sodt/smoother.h>
 
@@ -31,10 +33,54 @@ __attribute__((format(printf, 1, 2))) std::string strFormat(const char* fmt, ...
 
 const char* yesNo(bool b) { return b ? "yes" : "no"; }
 
+/// "smooth 0 light grey (200, 200, 200), ..." as HTML list items, from the
+/// core's palette so that the help cannot drift from the colours written.
+QString classTableHtml() {
+  struct Row {
+    sodt::VertexClass c;
+    const char* colourName;
+    const char* meaning;
+  };
+  const Row rows[] = {
+      {sodt::VertexClass::Smooth, "light grey", "one dominant normal direction; moves in its tangent plane"},
+      {sodt::VertexClass::Crease, "blue", "two normal directions (a sharp edge); moves along the crease"},
+      {sodt::VertexClass::Corner, "red", "three normal directions (where creases meet); never moves"},
+      {sodt::VertexClass::Fixed, "yellow",
+       "on a border, non-manifold or isolated; not classified, never moves"},
+  };
+  QString html = "<ul>";
+  for (const Row& r : rows) {
+    const vcg::Color4b col = sodt::classColor(r.c);
+    html += QString("<li><b>%1</b> %2: %3 RGB (%4, %5, %6), %7</li>")
+                .arg(static_cast<int>(r.c))
+                .arg(sodt::toString(r.c))
+                .arg(r.colourName)
+                .arg(int(col[0]))
+                .arg(int(col[1]))
+                .arg(int(col[2]))
+                .arg(r.meaning);
+  }
+  return html + "</ul>";
+}
+
+/// The paper reference in the format of ML20/src/common/interfaces.h.
+const char* const kCitation =
+    "See: <br>"
+    "<i>Zhanheng Gao, Zeyun Yu, Michael Holst</i><br>"
+    "<b>\"Feature-Preserving Surface Mesh Smoothing via Suboptimal Delaunay "
+    "Triangulation\"</b><br>"
+    "Graphical Models 75 (2013) 23-38, doi:10.1016/j.gmod.2012.10.007<br>";
+
+/// One log line with the number of vertices per class.
+std::string classCounts(const sodt::Classification& c) {
+  return strFormat("%d smooth, %d crease, %d corner, %d fixed (border, non-manifold or isolated)",
+                   c.smooth(), c.crease(), c.corner(), c.fixed());
+}
+
 }  // namespace
 
 FilterSodtPlugin::FilterSodtPlugin() {
-  typeList << FP_SODT_SMOOTH;
+  typeList << FP_SODT_SMOOTH << FP_SODT_CLASSIFY;
   for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
 }
 
@@ -43,6 +89,7 @@ QString FilterSodtPlugin::pluginName() const { return "FilterSodt"; }
 QString FilterSodtPlugin::filterName(FilterIDType filter) const {
   switch (filter) {
     case FP_SODT_SMOOTH: return "S-ODT Smoothing";
+    case FP_SODT_CLASSIFY: return "S-ODT: Classify Feature Vertices";
   }
   return QString();
 }
@@ -50,36 +97,101 @@ QString FilterSodtPlugin::filterName(FilterIDType filter) const {
 QString FilterSodtPlugin::filterInfo(FilterIDType filter) const {
   switch (filter) {
     case FP_SODT_SMOOTH:
-      return "Improves the angles of a triangle mesh by moving every interior vertex to the "
-             "minimiser of the suboptimal Delaunay triangulation (S-ODT) energy of its one-ring "
-             "(Algorithm 1 of the paper). Each vertex moves only in its tangent plane, which keeps "
-             "the shape and, up to floating-point rounding, the enclosed volume of a closed mesh "
-             "(paper, Appendix D). The connectivity never changes; boundary and non-manifold "
-             "vertices stay fixed.<br>"
-             "<br>"
-             "<b>Guard</b> decides what a proposed move must satisfy before it is committed. "
-             "<i>None (paper, literal)</i> commits every move and reproduces the paper's algorithm "
-             "literally; on poor input it can fold triangles. <i>Fold</i> rejects a move that flips "
-             "or collapses an incident triangle, and <i>Quality</i> also requires that the smallest "
-             "angle of the one-ring does not decrease. A vetoed step is halved up to "
-             "<i>Max backtracks</i> times before the vertex is left in place.<br>"
-             "<br>"
+      return QString(
+                 "Improves the angles of a triangle mesh by moving every interior vertex to the "
+                 "minimiser of the suboptimal Delaunay triangulation (S-ODT) energy of its "
+                 "one-ring (Eq. 5 of the paper). The connectivity never changes; boundary and "
+                 "non-manifold vertices stay fixed.<br>"
+                 "<br>"
+                 "<b>Algorithm</b>. <i>Basic (Algorithm 1)</i>: each vertex moves in its tangent "
+                 "plane to the closed-form minimiser (Eqs. 5-8). This keeps the shape and, up to "
+                 "floating-point rounding, the enclosed volume of a closed mesh (Appendix D), but "
+                 "it slowly rounds off sharp edges. <i>Feature-preserving (Algorithm 2)</i>: every "
+                 "vertex is first classified, once, by the eigenvalues of its normal tensor "
+                 "(Eqs. 9-10; <i>epsilon</i> and <i>eta</i>, explained in <i>S-ODT: Classify "
+                 "Feature Vertices</i>). Corners stay fixed, crease vertices move only along the "
+                 "crease direction e3 to the minimiser of the energy on that line (Eq. 11), smooth "
+                 "vertices move as in Basic. <i>Feature-preserving denoising (Algorithm 3)</i>: "
+                 "vertices are classified as in Algorithm 2, on a copy of the input whose vertices "
+                 "are projected on their fitted planes (so that noise does not fake creases). "
+                 "Smooth vertices then move on a weighted least-squares plane fitted to their "
+                 "neighbours (Eqs. 12-13), crease vertices on a line fitted to the crease vertices "
+                 "around them, corners stay fixed: noise is removed while the features stay "
+                 "sharp. Per sweep a vertex moves at most <i>Max normal step</i> mean edge lengths "
+                 "off its fitted plane or line direction.<br>"
+                 "<br>"
+                 "<b>Guard</b> decides what a proposed move must satisfy before it is committed. "
+                 "<i>None (paper, literal)</i> commits every move and reproduces the paper's "
+                 "algorithms literally; on poor input it can fold triangles. <i>Fold</i> rejects a "
+                 "move that flips or collapses an incident triangle, and <i>Quality</i> also "
+                 "requires that the smallest angle of the one-ring does not decrease. A vetoed "
+                 "step is halved up to <i>Max backtracks</i> times; then the tangential Laplacian "
+                 "step is tried under the same guard (<i>Laplacian fallback</i>) before the vertex "
+                 "is left in place.<br>"
+                 "<br>"
+                 "<b>Deviation guard</b> (Basic and Feature-preserving with guard Fold or "
+                 "Quality): a move is also vetoed when the vertex, or a centroid or edge midpoint "
+                 "of one of its faces, would end up farther than <i>Max deviation</i> (percent of "
+                 "the bounding-box diagonal, 0 disables it) from the input surface around the "
+                 "vertex (its one- and two-ring faces in the input). This stops faces from cutting "
+                 "across creases and bounds the distance to the input. Denoising does not use it, "
+                 "since it has to leave the noisy surface.<br>"
+                 "<br>"
+                 "<b>Output vertex class</b> writes the class each vertex had in the run to its "
+                 "quality and colour (with Basic every interior vertex is smooth):") +
+             classTableHtml() +
              "The log reports the smallest and largest angle and the fraction of angles below "
-             "30&deg; before and after, the enclosed volume of a closed mesh, and how many vertex "
-             "visits moved, were shortened, rejected or had a singular local system.<br>"
+             "30&deg; before and after, the enclosed volume of a closed mesh, the vertices per "
+             "class, and how many vertex visits moved, were shortened, rejected or had a "
+             "singular local system.<br>"
              "<br>"
-             "See: <br>"
-             "<i>Zhanheng Gao, Zeyun Yu, Michael Holst</i><br>"
-             "<b>\"Feature-Preserving Surface Mesh Smoothing via Suboptimal Delaunay "
-             "Triangulation\"</b><br>"
-             "Graphical Models 75 (2013) 23-38, doi:10.1016/j.gmod.2012.10.007<br>";
+             "<b>Erratum</b>: for the crease step x0 + d e3 the paper prints d* = -B/(2A) "
+             "(Eq. 11 and Algorithms 2-3). Along e3 the energy of Eq. 5 is A d<sup>2</sup> - B d "
+             "+ const with A and B as printed in Eq. 11 (consistent with the plane system of "
+             "Eq. 7), so its minimiser is d* = +B/(2A); the printed sign would move crease "
+             "vertices to the mirror image of the minimiser. This filter uses +B/(2A), which "
+             "matches a brute-force minimisation of the energy along the crease.<br>"
+             "<br>" +
+             kCitation;
+    case FP_SODT_CLASSIFY:
+      return QString(
+                 "Classifies every vertex as smooth, crease or corner by the eigenvalues nu1 "
+                 "&ge; nu2 &ge; nu3 of the normal tensor T = &sum; w<sub>k</sub> n<sub>k</sub> "
+                 "n<sub>k</sub><sup>T</sup> of its one-ring (Eq. 9; w<sub>k</sub> weighs the "
+                 "triangle areas and the distances of their barycentres), exactly as the "
+                 "feature-preserving algorithms of <i>S-ODT Smoothing</i> do (Eq. 10): the class "
+                 "is the largest of nu1 - nu2 (smooth), epsilon (nu2 - nu3) (crease) and "
+                 "epsilon eta nu3 (corner). The vertices never move. The class code is written to "
+                 "the vertex quality and the class colour, from a fixed palette, to the vertex "
+                 "colour:") +
+             classTableHtml() +
+             "With <i>Select feature vertices</i> exactly the crease and corner vertices end up "
+             "selected. The log reports the number of vertices per class.<br>"
+             "<br>"
+             "<b>Tuning</b>. <i>epsilon</i> (crease sensitivity, paper: 2): larger values find "
+             "more creases. Where two flat sides meet at an angle theta between their normals "
+             "(and weigh equally in the tensor), a vertex is a crease when theta &gt; "
+             "acos(epsilon / (epsilon + 2)): 60&deg; for epsilon = 2, 45&deg; for 4.83, "
+             "70.5&deg; for 1. <i>eta</i> (corner sensitivity, "
+             "paper: 2): larger values turn more crease vertices into corners. Noise makes "
+             "smooth vertices look like creases or corners; the denoising algorithm classifies "
+             "a denoised copy instead, so on noisy meshes this filter shows more features than "
+             "that algorithm uses.<br>"
+             "<br>" +
+             kCitation;
   }
   return QString();
 }
 
 MeshFilterInterface::FilterClass FilterSodtPlugin::getClass(QAction* a) {
+  // Both filters are listed under Smoothing only. A VertexColoring bit would
+  // also list them under Color Creation, but the class is fixed per filter:
+  // for the smoothing filter it would make the GUI switch to vertex colours
+  // even with outputClass off, and the classification filter declares its
+  // colours through postCondition and updateDataMask already.
   switch (ID(a)) {
     case FP_SODT_SMOOTH: return MeshFilterInterface::Smoothing;
+    case FP_SODT_CLASSIFY: return MeshFilterInterface::Smoothing;
   }
   // MeshLab throws while loading on Generic; every id above has a class.
   return MeshFilterInterface::Smoothing;
@@ -100,9 +212,12 @@ int FilterSodtPlugin::postCondition(QAction* a) const {
   switch (ID(a)) {
     case FP_SODT_SMOOTH:
       // Positions and normals always; the vertex selection when a face
-      // selection is converted for "Affect only selection".
+      // selection is converted for "Affect only selection"; quality and
+      // colour with "Output vertex class".
       return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL |
-             MeshModel::MM_VERTFLAGSELECT;
+             MeshModel::MM_VERTFLAGSELECT | MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
+    case FP_SODT_CLASSIFY:
+      return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTFLAGSELECT;
   }
   return MeshModel::MM_NONE;
 }
@@ -110,6 +225,7 @@ int FilterSodtPlugin::postCondition(QAction* a) const {
 void FilterSodtPlugin::initParameterSet(QAction* a, MeshModel& m, RichParameterList& par) {
   switch (ID(a)) {
     case FP_SODT_SMOOTH: appendSodtParams(par, m); break;
+    case FP_SODT_CLASSIFY: appendClassifyParams(par); break;
   }
 }
 
@@ -118,19 +234,19 @@ bool FilterSodtPlugin::applyFilter(QAction* a, MeshDocument& md, const RichParam
   errorMessage.clear();
   switch (ID(a)) {
     case FP_SODT_SMOOTH: return applySmooth(md, par, cb);
+    case FP_SODT_CLASSIFY: return applyClassify(md, par);
   }
-  errorMessage = "S-ODT: unknown filter '" + a->text() + "'";
+  return fail("S-ODT: unknown filter '" + a->text() + "'");
+}
+
+bool FilterSodtPlugin::fail(const QString& why) {
+  errorMessage = why;
+  Log(GLLogStream::WARNING, why.toStdString());
   return false;
 }
 
 bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& par,
                                    vcg::CallBackPos* cb) {
-  // meshlabserver prints the filter log but not errorMessage: log the reason too.
-  auto fail = [this](const QString& why) {
-    errorMessage = why;
-    Log(GLLogStream::WARNING, why.toStdString());
-    return false;
-  };
   MeshModel* mm = md.mm();
   if (mm == nullptr) return fail("S-ODT Smoothing: there is no current mesh.");
   CMeshO& m = mm->cm;
@@ -141,6 +257,7 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
   try {
     // Everything that can be rejected is checked before the mesh is touched.
     const sodt::SodtParams p = readSodtParams(par);
+    const bool outputClass = readOutputClass(par);
     p.validate();
     if (m.fn == 0)
       return fail("S-ODT Smoothing needs a triangle mesh, but the current mesh has no faces.");
@@ -163,14 +280,29 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
     const sodt::AngleStats before = sodt::computeAngleStats(m);
     const sodt::VolumeResult volBefore = sodt::enclosedVolume(m);
 
-    const sodt::SodtStats s = sodt::SodtSmoother<CMeshO>::Apply(m, p, cb);
+    sodt::Classification classes;
+    const sodt::SodtStats s = sodt::SodtSmoother<CMeshO>::Apply(m, p, cb, &classes);
     mm->UpdateBoxAndNormals();
+    if (outputClass) {
+      // Without the mask the GUI neither shows nor saves the colours (and
+      // quality); both components always exist in CMeshO.
+      mm->updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
+      sodt::writeClassToQuality(m, classes);
+      sodt::colorizeByClass(m, classes);
+    }
 
     const sodt::AngleStats after = sodt::computeAngleStats(m);
     Log(strFormat("S-ODT: algorithm %s, guard %s, %d iterations, max backtracks %d, "
                   "Laplacian fallback %s, selected only %s",
                   sodt::toString(p.algorithm), sodt::toString(p.guard), p.iterations,
                   p.maxBacktracks, yesNo(p.laplacianFallback), yesNo(p.selectedOnly)));
+    if (p.algorithm != sodt::Algorithm::Basic)
+      Log(strFormat("S-ODT: epsilon %g, eta %g", p.epsilon, p.eta));
+    if (p.algorithm == sodt::Algorithm::Denoise)
+      Log(strFormat("S-ODT: max normal step %g x mean edge length", p.maxNormalStepRel));
+    else if (p.guard != sodt::Guard::None && p.maxDeviationRel > 0)
+      Log(strFormat("S-ODT: deviation guard %g%% of the bounding-box diagonal",
+                    100.0 * p.maxDeviationRel));
     Log(strFormat("S-ODT: min angle %.4f -> %.4f deg, max angle %.4f -> %.4f deg, "
                   "angles below 30 deg %.3f%% -> %.3f%%",
                   before.minDeg, after.minDeg, before.maxDeg, after.maxDeg,
@@ -185,6 +317,8 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
     } else {
       Log("S-ODT: the mesh is not closed; enclosed volume not reported");
     }
+    Log(strFormat("S-ODT: vertex classes: %s%s", classCounts(classes).c_str(),
+                  outputClass ? "; written to vertex quality and colour" : ""));
     Log(strFormat("S-ODT: %d sweeps over %d active vertices: %lld moved, %lld backtracked, "
                   "%lld Laplacian fallback, %lld rejected, %lld failed solves, %lld unchanged; "
                   "fixed %d boundary and %d non-manifold vertices",
@@ -203,6 +337,35 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
     m.svn = 0;
   }
   return fail(errorMessage);
+}
+
+bool FilterSodtPlugin::applyClassify(MeshDocument& md, const RichParameterList& par) {
+  MeshModel* mm = md.mm();
+  if (mm == nullptr) return fail("S-ODT Classify: there is no current mesh.");
+  CMeshO& m = mm->cm;
+  try {
+    const SodtClassifyParams p = readClassifyParams(par);
+    p.validate();
+    if (m.fn == 0)
+      return fail("S-ODT Classify needs a triangle mesh, but the current mesh has no faces.");
+
+    const sodt::Classification c = sodt::classifyVertices(m, p.epsilon, p.eta);
+    mm->updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
+    sodt::writeClassToQuality(m, c);
+    sodt::colorizeByClass(m, c);
+    Log(strFormat("S-ODT classify: epsilon %g, eta %g: %s", p.epsilon, p.eta, classCounts(c).c_str()));
+    Log("S-ODT classify: class codes written to vertex quality (0 smooth, 1 crease, 2 corner, "
+        "3 fixed), class colours to vertex colour");
+    if (p.selectFeatures) {
+      m.svn = sodt::selectFeatureVertices(m, c);
+      Log("S-ODT classify: selected %d feature (crease or corner) vertices", m.svn);
+    }
+    return true;
+  } catch (const std::exception& e) {
+    return fail(QString("S-ODT Classify failed: ") + QString::fromUtf8(e.what()));
+  } catch (...) {
+    return fail("S-ODT Classify failed with an unknown error.");
+  }
 }
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterSodtPlugin)

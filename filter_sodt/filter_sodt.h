@@ -5,7 +5,8 @@
 
 #include <common/interfaces.h>
 
-/// Filter plugin "S-ODT" for MeshLab 2020.09 (MeshFilterInterface).
+/// Filter plugin "S-ODT" for MeshLab 2020.09 (MeshFilterInterface): the
+/// smoothing filter and the vertex classification filter.
 class FilterSodtPlugin : public QObject, public MeshFilterInterface {
   Q_OBJECT
   MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
@@ -13,7 +14,7 @@ class FilterSodtPlugin : public QObject, public MeshFilterInterface {
 
  public:
   /// Filter ids; new filters are appended, existing values never change.
-  enum { FP_SODT_SMOOTH };
+  enum { FP_SODT_SMOOTH, FP_SODT_CLASSIFY };
 
   FilterSodtPlugin();
 
@@ -38,4 +39,11 @@ class FilterSodtPlugin : public QObject, public MeshFilterInterface {
   /// FP_SODT_SMOOTH: validates, runs sodt::SodtSmoother on the current mesh and
   /// logs the quality before and after. Never lets an exception escape.
   bool applySmooth(MeshDocument& md, const RichParameterList& par, vcg::CallBackPos* cb);
+  /// FP_SODT_CLASSIFY: validates, classifies the vertices of the current mesh
+  /// (never moves them), writes class codes and colours, optionally selects
+  /// the feature vertices, logs the counts. Never lets an exception escape.
+  bool applyClassify(MeshDocument& md, const RichParameterList& par);
+  /// Sets errorMessage and also logs it (meshlabserver prints the filter log
+  /// but not errorMessage); returns false.
+  bool fail(const QString& why);
 };

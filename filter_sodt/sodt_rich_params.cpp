@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// RichParameterList <-> sodt::SodtParams for the S-ODT filter; defaults come
+// RichParameterList <-> core parameters for the S-ODT filters; defaults come
 // from SodtParams{} so the dialog, the script and the core always agree.
 #include "sodt_rich_params.h"
 
@@ -7,6 +7,8 @@
 #include <common/meshmodel.h>
 
 #include <QStringList>
+
+#include <string>
 
 namespace {
 
@@ -17,19 +19,46 @@ const char* const kIterations = "iterations";
 const char* const kGuard = "guard";
 const char* const kMaxBacktracks = "maxBacktracks";
 const char* const kLaplacianFallback = "laplacianFallback";
+const char* const kMaxDeviation = "maxDeviation";
+const char* const kEpsilon = "epsilon";
+const char* const kEta = "eta";
+const char* const kMaxNormalStep = "maxNormalStep";
 const char* const kSelectedOnly = "selectedOnly";
+const char* const kOutputClass = "outputClass";
+const char* const kSelectFeatures = "selectFeatures";
 
-static_assert(static_cast<int>(sodt::Algorithm::Basic) == 0,
+/// `maxDeviation` is shown in percent of the bbox diagonal; the core takes a fraction.
+constexpr double kPercent = 100.0;
+
+static_assert(static_cast<int>(sodt::Algorithm::Basic) == 0 &&
+                  static_cast<int>(sodt::Algorithm::Feature) == 1 &&
+                  static_cast<int>(sodt::Algorithm::Denoise) == 2,
               "algorithmLabels() is indexed by sodt::Algorithm");
 static_assert(static_cast<int>(sodt::Guard::None) == 0 && static_cast<int>(sodt::Guard::Fold) == 1 &&
                   static_cast<int>(sodt::Guard::Quality) == 2,
               "guardLabels() is indexed by sodt::Guard");
 
 /// Dialog entries of `algorithm`; entry i is sodt::Algorithm(i).
-QStringList algorithmLabels() { return QStringList{"Basic (Algorithm 1)"}; }
+QStringList algorithmLabels() {
+  return QStringList{"Basic (Algorithm 1)", "Feature-preserving (Algorithm 2)",
+                     "Feature-preserving denoising (Algorithm 3)"};
+}
 
 /// Dialog entries of `guard`; entry i is sodt::Guard(i).
 QStringList guardLabels() { return QStringList{"None (paper, literal)", "Fold", "Quality"}; }
+
+// Shared by both filters, so the two dialogs explain the classification alike.
+const char* const kEpsilonHelp =
+    "Crease sensitivity epsilon of Eq. 10 (dimensionless, greater than 0; the paper uses 2). "
+    "A vertex is a crease when epsilon (nu2 - nu3) is the largest of nu1 - nu2, "
+    "epsilon (nu2 - nu3) and epsilon eta nu3, where nu1 >= nu2 >= nu3 are the eigenvalues of "
+    "its normal tensor. Larger values find more creases: where two flat sides meet (with "
+    "equal weight in the tensor), a vertex is a crease when the angle theta between their "
+    "normals exceeds acos(epsilon / (epsilon + 2)), i.e. 60 deg for 2, 45 deg for 4.83, 70.5 deg for 1.";
+const char* const kEtaHelp =
+    "Corner sensitivity eta of Eq. 10 (dimensionless, greater than 0; the paper uses 2). "
+    "A vertex is a corner when epsilon eta nu3 is the largest of the three terms: larger "
+    "values turn more crease vertices into corners (where three or more sides meet).";
 
 }  // namespace
 
@@ -39,7 +68,12 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m) {
       kAlgorithm, static_cast<int>(d.algorithm), algorithmLabels(), "Algorithm",
       "Vertex update rule. Basic (Algorithm 1 of the paper): every interior vertex moves "
       "in its tangent plane to the closed-form minimiser of the suboptimal ODT energy "
-      "(Eqs. 5-8), with its one-ring neighbours held fixed."));
+      "(Eqs. 5-8), with its one-ring neighbours held fixed. Feature-preserving (Algorithm 2): "
+      "the vertices are first classified by their normal tensor (Eqs. 9-10, see epsilon and "
+      "eta); corners stay fixed, crease vertices slide along their crease, smooth vertices "
+      "move as in Basic. Feature-preserving denoising (Algorithm 3): as Algorithm 2, but "
+      "smooth vertices move on a plane fitted to their neighbours (Eqs. 12-13) and crease "
+      "vertices on a line fitted along the crease, which removes noise (see Max normal step)."));
   list.addParam(RichInt(
       kIterations, d.iterations, "Iterations",
       "Number of Gauss-Seidel sweeps over all movable vertices (a count, 0 to 100000). "
@@ -47,7 +81,7 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m) {
       "diminishing returns. 0 leaves the mesh unchanged."));
   list.addParam(RichEnum(
       kGuard, static_cast<int>(d.guard), guardLabels(), "Guard",
-      "Check applied to every proposed move before it is committed. "
+      "Check applied to every proposed move before it is committed (all algorithms). "
       "None: commit every solved move, exactly as the paper does (on poor input this can "
       "fold triangles). Fold: reject a move that flips or collapses an incident triangle. "
       "Quality: as Fold, and the smallest angle of the vertex's one-ring must not decrease."));
@@ -60,14 +94,44 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m) {
       kLaplacianFallback, d.laplacianFallback, "Laplacian fallback",
       "When the guard vetoes the S-ODT step (or the vertex already sits at its S-ODT "
       "optimum), try the tangential Laplacian step (the S'_k = 1 case of Eq. 3, in the same "
-      "tangent plane) under the same guard. Lifts the minimum angle much further on sliver "
-      "meshes and keeps the volume. Ignored when Guard is None."));
+      "tangent plane, or along the crease for crease vertices) under the same guard. Lifts "
+      "the minimum angle much further on sliver meshes. Ignored when Guard is None."));
+  list.addParam(RichFloat(
+      kMaxDeviation, float(kPercent * d.maxDeviationRel), "Max deviation (% of bbox diagonal)",
+      "Deviation guard, in percent of the bounding-box diagonal (0.1 means a thousandth of "
+      "it; 0 to 100, 0 disables the check). After a move, the vertex and the centroids and "
+      "edge midpoints of its faces must stay within this distance of the input surface "
+      "around the vertex; otherwise the step is shortened or rejected like any guard veto. "
+      "Keeps faces from cutting across creases and bounds the distance to the input. Used by "
+      "Basic and Feature-preserving (Algorithms 1 and 2) with Guard Fold or Quality; ignored "
+      "by denoising, whose purpose is to leave the noisy surface, and with Guard None."));
+  list.addParam(RichFloat(kEpsilon, float(d.epsilon), "Crease sensitivity (epsilon)",
+                          QString(kEpsilonHelp) +
+                              " Used by Algorithms 2 and 3 (and by Output class with them); "
+                              "ignored by Basic."));
+  list.addParam(RichFloat(kEta, float(d.eta), "Corner sensitivity (eta)",
+                          QString(kEtaHelp) + " Corners never move. Used by Algorithms 2 and 3; "
+                                              "ignored by Basic."));
+  list.addParam(RichFloat(
+      kMaxNormalStep, float(d.maxNormalStepRel), "Max normal step (x mean edge)",
+      "Feature-preserving denoising (Algorithm 3) only: the largest distance a vertex may move "
+      "in one sweep along the normal of its fitted plane (smooth vertices) or across its "
+      "fitted crease line (crease vertices), as a fraction of the mean edge length (0 to 10; "
+      "0.05 = 5%). Bounds how far the surface drifts from the input however many sweeps run; "
+      "larger values remove stronger noise. 0 removes no noise."));
   list.addParam(RichBool(
       kSelectedOnly, m.cm.svn > 0 || m.cm.sfn > 0, "Affect only selection",
       "Move only the selected vertices. With a face selection and no vertex selection, the "
       "vertices whose faces are all selected are selected first, so faces outside the "
       "selection keep their shape. Unselected vertices stay fixed but still shape the "
       "one-rings of their selected neighbours."));
+  list.addParam(RichBool(
+      kOutputClass, true, "Output vertex class",
+      "After smoothing, write the class of every vertex to its quality (0 smooth, 1 crease, "
+      "2 corner, 3 fixed: border or non-manifold) and colour it with a fixed palette (smooth "
+      "light grey, crease blue, corner red, fixed yellow). These are the classes the run used: "
+      "computed on the input by Algorithms 2 and 3; with Basic every interior vertex is "
+      "smooth. Replaces the vertex quality and colour. meshlabserver saves them with -m vq vc."));
 }
 
 sodt::SodtParams readSodtParams(const RichParameterList& list) {
@@ -77,6 +141,35 @@ sodt::SodtParams readSodtParams(const RichParameterList& list) {
   p.guard = static_cast<sodt::Guard>(list.getEnum(kGuard));
   p.maxBacktracks = list.getInt(kMaxBacktracks);
   p.laplacianFallback = list.getBool(kLaplacianFallback);
+  const double maxDeviation = list.getFloat(kMaxDeviation);
+  if (!(maxDeviation >= 0 && maxDeviation <= kPercent))
+    throw sodt::InvalidInput("maxDeviation must be in [0, 100] (percent of the bounding-box diagonal), got " +
+                             std::to_string(maxDeviation));
+  p.maxDeviationRel = maxDeviation / kPercent;
+  p.epsilon = list.getFloat(kEpsilon);
+  p.eta = list.getFloat(kEta);
+  p.maxNormalStepRel = list.getFloat(kMaxNormalStep);
   p.selectedOnly = list.getBool(kSelectedOnly);
   return p;
+}
+
+bool readOutputClass(const RichParameterList& list) { return list.getBool(kOutputClass); }
+
+void appendClassifyParams(RichParameterList& list) {
+  const SodtClassifyParams d{};
+  list.addParam(RichFloat(kEpsilon, float(d.epsilon), "Crease sensitivity (epsilon)", kEpsilonHelp));
+  list.addParam(RichFloat(kEta, float(d.eta), "Corner sensitivity (eta)", kEtaHelp));
+  list.addParam(RichBool(
+      kSelectFeatures, d.selectFeatures, "Select feature vertices",
+      "Select exactly the crease and corner vertices and clear the selection of every other "
+      "vertex (the face selection is left alone). Handy for inspecting the features or for "
+      "protecting them from filters that have an 'Affect only selection' option."));
+}
+
+SodtClassifyParams readClassifyParams(const RichParameterList& list) {
+  SodtClassifyParams c;
+  c.epsilon = list.getFloat(kEpsilon);
+  c.eta = list.getFloat(kEta);
+  c.selectFeatures = list.getBool(kSelectFeatures);
+  return c;
 }

@@ -4,10 +4,15 @@
 # a private prefix (never a copy installed in the system plugin folder).
 #
 # Usage: meshlabserver_test.sh MODE --plugin SO --script MLX --mesh PLY
-#                              --checker EXE [--meshlab-lib-dir DIR]
+#                              --checker EXE [--examples DIR] [--mesh-dir DIR]
+#                              [--meshlab-lib-dir DIR]
+# --script/--mesh: the basic smoothing script and its test mesh; --examples:
+# the folder of the other example scripts (sodt_feature.mlx, sodt_denoise.mlx,
+# sodt_classify.mlx); --mesh-dir: the folder of cube_jitter.ply and cube_noisy.ply.
 # MODE:
-#   listed          `meshlabserver -d` lists "S-ODT Smoothing" exactly once,
-#                   loaded from the private prefix.
+#   listed          `meshlabserver -d` lists "S-ODT Smoothing" and "S-ODT:
+#                   Classify Feature Vertices" exactly once each, both citing
+#                   the paper, loaded from the private prefix.
 #   smooth          the shipped script on the mesh: exit 0, output written, the
 #                   filter's log line printed, and the checker passes (same
 #                   vertices and faces, coordinates moved, min angle improved).
@@ -18,13 +23,27 @@
 #   bad-iterations  the shipped script with iterations=-5: meshlabserver exits
 #                   non-zero without a crash (no signal), writes no output, and
 #                   the log names the bad parameter.
+#   classify        sodt_classify.mlx on cube_jitter.ply saved with -m vq vc:
+#                   vertices unmoved, every quality a code in {0,1,2}, exactly
+#                   the 8 cube corners have code 2, colours are the palette's.
+#   classify-select the same with selectFeatures=true saved with -m vq vc vf:
+#                   exactly the crease and corner vertices are selected.
+#   feature         sodt_feature.mlx on cube_jitter.ply: the 8 corners are
+#                   bit-identical, every vertex stays on the cube surface and
+#                   every edge vertex on its edge, the smallest angle grows,
+#                   and the class output is as in classify.
+#   denoise         sodt_denoise.mlx on cube_noisy.ply: exit 0, class codes and
+#                   colours written, RMS distance to the cube goes down.
+#   bad-epsilon     sodt_feature.mlx and sodt_classify.mlx with epsilon=-1:
+#                   each fails like bad-iterations, naming epsilon.
 # Set SODT_TEST_KEEP=1 to keep the work directory for inspection.
 set -u
 
 FILTER="S-ODT Smoothing"
+CLASSIFY_FILTER="S-ODT: Classify Feature Vertices"
 MODE="${1:-}"
 shift || true
-PLUGIN="" SCRIPT="" MESH="" CHECKER=""
+PLUGIN="" SCRIPT="" MESH="" CHECKER="" EXAMPLES="" MESHDIR=""
 MLLIB="/usr/lib/x86_64-linux-gnu/meshlab"
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -32,6 +51,8 @@ while [ $# -gt 0 ]; do
     --script) SCRIPT="$2"; shift 2 ;;
     --mesh) MESH="$2"; shift 2 ;;
     --checker) CHECKER="$2"; shift 2 ;;
+    --examples) EXAMPLES="$2"; shift 2 ;;
+    --mesh-dir) MESHDIR="$2"; shift 2 ;;
     --meshlab-lib-dir) MLLIB="$2"; shift 2 ;;
     *) echo "unknown argument '$1'" >&2; exit 2 ;;
   esac
@@ -40,7 +61,10 @@ done
 fail() { echo "FAIL: $*"; exit 1; }
 pass() { echo "PASS: $*"; exit 0; }
 
-case "$MODE" in listed|smooth|selection|bad-iterations) ;; *) echo "unknown mode '$MODE'" >&2; exit 2 ;; esac
+case "$MODE" in
+  listed|smooth|selection|bad-iterations|classify|classify-select|feature|denoise|bad-epsilon) ;;
+  *) echo "unknown mode '$MODE'" >&2; exit 2 ;;
+esac
 [ -f "$PLUGIN" ] || fail "built plugin not found at '$PLUGIN' (build the filter_sodt target first)"
 [ -f "$SCRIPT" ] || fail "example script not found at '$SCRIPT'"
 command -v xvfb-run >/dev/null || fail "xvfb-run is not installed (apt-get install xvfb xauth)"
@@ -79,17 +103,50 @@ run_server() {
   echo "meshlabserver exit status: $RC"
 }
 
+# need_file PATH WHAT: fails the test when PATH is not a file.
+need_file() { [ -f "$1" ] || fail "$2 not found at '$1'"; }
+need_checker() { [ -n "$CHECKER" ] && [ -x "$CHECKER" ] || fail "mesh checker not found at '$CHECKER'"; }
+
+# run_checker ARGS...: runs the mesh checker and fails the test unless it passes.
+run_checker() {
+  echo "+ $(basename "$CHECKER") $*"
+  "$CHECKER" "$@"
+  local crc=$?
+  [ "$crc" -eq 0 ] || fail "mesh check $1 failed (status $crc)"
+}
+
+# set_param IN OUT NAME VALUE: copy of script IN with parameter NAME set to VALUE.
+set_param() {
+  sed -E "/name=\"$3\"/ s/value=\"[^\"]*\"/value=\"$4\"/" "$1" >"$2"
+  grep -E "name=\"$3\"" "$2" | grep -q "value=\"$4\"" || fail "could not set $3=$4 in a copy of $(basename "$1")"
+}
+
+# expect_clean_failure WHAT OUT PATTERN: the last run failed without a crash,
+# wrote no OUT, and logged PATTERN.
+expect_clean_failure() {
+  [ "$RC" -ne 0 ] || fail "meshlabserver accepted $1 (exit 0)"
+  if [ "$RC" -eq 124 ]; then fail "meshlabserver timed out"; fi
+  if [ "$RC" -gt 128 ] && [ "$RC" -lt 193 ]; then fail "meshlabserver died from signal $((RC - 128)) (exit $RC)"; fi
+  [ ! -e "$2" ] || fail "an output mesh was written although the filter failed ($1)"
+  grep -q "$3" "$LOG" || fail "the log does not name the bad parameter ($1; expected '$3')"
+}
+
+CUBE="$MESHDIR/cube_jitter.ply"
+NOISY="$MESHDIR/cube_noisy.ply"
+
 case "$MODE" in
   listed)
     run_server -d "$WORK/filters.txt"
     [ "$RC" -eq 0 ] || fail "meshlabserver -d exited with $RC"
     grep -qF "Current Plugins Dir is: $L/plugins" "$LOG" || fail "plugins were not loaded from the private prefix"
     [ -f "$WORK/filters.txt" ] || fail "no filter dump written"
-    n="$(grep -cE "^\\\\section f[0-9]+ $FILTER *\$" "$WORK/filters.txt")"
-    [ "$n" -eq 1 ] || fail "'$FILTER' listed $n times in the filter dump (expected once)"
-    grep -A3 -E "^\\\\section f[0-9]+ $FILTER" "$WORK/filters.txt" | grep -q "doi:10.1016/j.gmod.2012.10.007" \
-      || fail "the filter description does not cite the paper"
-    pass "'$FILTER' is listed once by meshlabserver -d"
+    for f in "$FILTER" "$CLASSIFY_FILTER"; do
+      n="$(grep -cE "^\\\\section f[0-9]+ $f *\$" "$WORK/filters.txt")"
+      [ "$n" -eq 1 ] || fail "'$f' listed $n times in the filter dump (expected once)"
+      grep -A3 -E "^\\\\section f[0-9]+ $f *\$" "$WORK/filters.txt" | grep -q "doi:10.1016/j.gmod.2012.10.007" \
+        || fail "the description of '$f' does not cite the paper"
+    done
+    pass "'$FILTER' and '$CLASSIFY_FILTER' are listed once each by meshlabserver -d"
     ;;
 
   smooth)
@@ -141,5 +198,74 @@ case "$MODE" in
     [ ! -e "$OUT" ] || fail "an output mesh was written although the filter failed"
     grep -q "iterations must be in" "$LOG" || fail "the log does not name the bad parameter"
     pass "iterations=-5 is rejected with exit status $RC and no output"
+    ;;
+
+  classify|classify-select)
+    need_checker
+    need_file "$CUBE" "bundled cube mesh"
+    CLS="$EXAMPLES/sodt_classify.mlx"
+    need_file "$CLS" "example script sodt_classify.mlx"
+    OUT="$WORK/out.ply"
+    if [ "$MODE" = classify ]; then
+      run_server -i "$CUBE" -o "$OUT" -m vq vc -s "$CLS"
+    else
+      set_param "$CLS" "$WORK/select.mlx" selectFeatures true
+      run_server -i "$CUBE" -o "$OUT" -m vq vc vf -s "$WORK/select.mlx"
+    fi
+    [ "$RC" -eq 0 ] || fail "meshlabserver exited with $RC"
+    [ -s "$OUT" ] || fail "no output mesh written"
+    grep -q "LOG: 2 S-ODT classify: epsilon 2, eta 2: " "$LOG" || fail "the class counts were not logged"
+    if [ "$MODE" = classify ]; then
+      run_checker --classes "$CUBE" "$OUT" --codes 012 --corners 8 --cube-corners --unmoved
+      pass "classified $(basename "$CUBE"): 8 corners, codes and colours saved with -m vq vc"
+    else
+      grep -q "LOG: 2 S-ODT classify: selected [1-9][0-9]* feature" "$LOG" || fail "the selection was not logged"
+      run_checker --classes "$CUBE" "$OUT" --codes 012 --corners 8 --unmoved --selected-features
+      pass "selectFeatures selected exactly the crease and corner vertices"
+    fi
+    ;;
+
+  feature)
+    need_checker
+    need_file "$CUBE" "bundled cube mesh"
+    FEAT="$EXAMPLES/sodt_feature.mlx"
+    need_file "$FEAT" "example script sodt_feature.mlx"
+    OUT="$WORK/out.ply"
+    run_server -i "$CUBE" -o "$OUT" -m vq vc -s "$FEAT"
+    [ "$RC" -eq 0 ] || fail "meshlabserver exited with $RC"
+    [ -s "$OUT" ] || fail "no output mesh written"
+    grep -q "LOG: 2 S-ODT: algorithm feature," "$LOG" || fail "the log does not show algorithm feature"
+    grep -q "LOG: 2 S-ODT: vertex classes: .*; written to vertex quality and colour" "$LOG" \
+      || fail "the class counts were not logged"
+    run_checker --cube-feature "$CUBE" "$OUT"
+    run_checker --classes "$CUBE" "$OUT" --codes 012 --corners 8 --cube-corners
+    pass "feature-preserving S-ODT kept the cube's corners and surface and improved its angles"
+    ;;
+
+  denoise)
+    need_checker
+    need_file "$NOISY" "bundled noisy cube mesh"
+    DEN="$EXAMPLES/sodt_denoise.mlx"
+    need_file "$DEN" "example script sodt_denoise.mlx"
+    OUT="$WORK/out.ply"
+    run_server -i "$NOISY" -o "$OUT" -m vq vc -s "$DEN"
+    [ "$RC" -eq 0 ] || fail "meshlabserver exited with $RC"
+    [ -s "$OUT" ] || fail "no output mesh written"
+    grep -q "LOG: 2 S-ODT: algorithm denoise," "$LOG" || fail "the log does not show algorithm denoise"
+    run_checker --classes "$NOISY" "$OUT"
+    run_checker --cube-denoise "$NOISY" "$OUT"
+    pass "denoising S-ODT ran on $(basename "$NOISY") and wrote class codes"
+    ;;
+
+  bad-epsilon)
+    need_file "$CUBE" "bundled cube mesh"
+    for name in sodt_feature sodt_classify; do
+      need_file "$EXAMPLES/$name.mlx" "example script $name.mlx"
+      set_param "$EXAMPLES/$name.mlx" "$WORK/bad_$name.mlx" epsilon -1
+      OUT="$WORK/out_$name.ply"
+      run_server -i "$CUBE" -o "$OUT" -m vq vc -s "$WORK/bad_$name.mlx"
+      expect_clean_failure "epsilon=-1 in $name.mlx" "$OUT" "epsilon must be a positive number"
+    done
+    pass "epsilon=-1 is rejected by both filters without a crash and without output"
     ;;
 esac

@@ -3,10 +3,13 @@
 // of its filters with MeshLab's own serializer, or checks a shipped script.
 //
 // Usage:
-//   sodt_plugin_script_tool PLUGIN.so "FILTER NAME" --write OUT.mlx
+//   sodt_plugin_script_tool PLUGIN.so "FILTER NAME" --write OUT.mlx [--set NAME=VALUE]...
 //   sodt_plugin_script_tool PLUGIN.so "FILTER NAME" --check SHIPPED.mlx
 // --write saves the filter's parameter list with its defaults, serialized by
-// MeshLab (as the GUI's "Save filter script" does, minus descriptions). --check verifies that SHIPPED.mlx names the
+// MeshLab (as the GUI's "Save filter script" does, minus descriptions); each
+// --set replaces the default of an existing parameter by a value that MeshLab
+// parses for its type (an enum index must be in range) and is recorded in the
+// file's header comment. --check verifies that SHIPPED.mlx names the
 // filter once and lists exactly the plugin's parameters, in order, with the
 // same names and types, that MeshLab parses every value, and that enum values
 // are in range: the conditions under which meshlabserver 2020.09 neither
@@ -26,6 +29,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <vector>
 
@@ -33,7 +37,8 @@ namespace {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: sodt_plugin_script_tool PLUGIN.so \"FILTER NAME\" --write OUT.mlx\n"
+               "usage: sodt_plugin_script_tool PLUGIN.so \"FILTER NAME\" --write OUT.mlx "
+               "[--set NAME=VALUE]...\n"
                "       sodt_plugin_script_tool PLUGIN.so \"FILTER NAME\" --check SHIPPED.mlx\n");
   return 2;
 }
@@ -131,11 +136,44 @@ int attributeRank(const QString& a) {
   return 1000000;
 }
 
+/// A --set NAME=VALUE of write mode.
+struct Override {
+  QString name, value;
+};
+
+/// Checks that value is what MeshLab 2020.09's script parser accepts for the
+/// parameter's type (RichParameterAdapter: toInt, toFloat, "true"/"false"),
+/// and that an enum index is in range. Prints the problem and returns false.
+bool overrideParses(const RichParameter& rp, const QString& value) {
+  bool ok = false;
+  const QString t = rp.stringType();
+  if (t == "RichBool") {
+    ok = value == "true" || value == "false";
+  } else if (t == "RichInt") {
+    value.toInt(&ok);
+  } else if (t == "RichEnum") {
+    const int v = value.toInt(&ok);
+    ok = ok && v >= 0 && v < static_cast<const RichEnum&>(rp).enumvalues.size();
+  } else if (t == "RichFloat") {
+    value.toFloat(&ok);
+  } else {
+    std::fprintf(stderr, "--set %s: parameters of type %s are not supported\n", qUtf8Printable(rp.name()),
+                 qUtf8Printable(t));
+    return false;
+  }
+  if (!ok)
+    std::fprintf(stderr, "--set %s=%s: not a valid %s value\n", qUtf8Printable(rp.name()),
+                 qUtf8Printable(value), qUtf8Printable(t));
+  return ok;
+}
+
 /// Writes a script with one filter, each <Param> serialized by MeshLab's own
 /// RichParameter::fillToXMLDocument (values only, no description or tooltip),
 /// with the attributes in a fixed order so the output is reproducible (QtXml
-/// orders them by a randomly seeded hash).
-bool writeScript(const QString& path, const QString& filterName, const RichParameterList& params) {
+/// orders them by a randomly seeded hash). The value of a parameter named in
+/// overrides is replaced (the caller checked that it parses).
+bool writeScript(const QString& path, const QString& filterName, const RichParameterList& params,
+                 const QList<Override>& overrides) {
   QByteArray xml;
   QXmlStreamWriter w(&xml);
   w.setAutoFormatting(true);
@@ -146,6 +184,11 @@ bool writeScript(const QString& path, const QString& filterName, const RichParam
   // No double hyphen: it ends an XML comment early.
   w.writeComment(" Generated from the built plugin by tests/plugin/sodt_plugin_script_tool (write "
                  "mode); a test checks that it still matches the plugin. ");
+  if (!overrides.isEmpty()) {
+    QStringList sets;
+    for (const Override& o : overrides) sets << "set " + o.name + "=" + o.value;
+    w.writeComment(" Defaults changed in write mode: " + sets.join(", ") + " ");
+  }
   w.writeDTD("<!DOCTYPE FilterScript>");
   w.writeStartElement("FilterScript");
   w.writeStartElement("filter");
@@ -160,8 +203,11 @@ bool writeScript(const QString& path, const QString& filterName, const RichParam
       const int ra = attributeRank(a), rb = attributeRank(b);
       return ra != rb ? ra < rb : a < b;
     });
+    QString value = e.attribute("value");
+    for (const Override& o : overrides)
+      if (o.name == rp.name()) value = o.value;
     w.writeEmptyElement("Param");
-    for (const QString& n : names) w.writeAttribute(n, e.attribute(n));
+    for (const QString& n : names) w.writeAttribute(n, n == "value" ? value : e.attribute(n));
   }
   w.writeEndElement();
   w.writeEndElement();
@@ -174,13 +220,21 @@ bool writeScript(const QString& path, const QString& filterName, const RichParam
 }
 
 int run(int argc, char** argv) {
-  if (argc != 5) return usage();
+  if (argc < 5) return usage();
   // QPluginLoader searches the library path for a relative name.
   const QString pluginPath = QFileInfo(QString::fromLocal8Bit(argv[1])).absoluteFilePath();
   const QString filterName = QString::fromUtf8(argv[2]);
   const QString mode = QString::fromLocal8Bit(argv[3]);
   const QString scriptPath = QString::fromLocal8Bit(argv[4]);
   if (mode != "--write" && mode != "--check") return usage();
+  QList<Override> overrides;
+  for (int i = 5; i < argc; i += 2) {
+    if (mode != "--write" || i + 1 >= argc || std::strcmp(argv[i], "--set") != 0) return usage();
+    const QString kv = QString::fromLocal8Bit(argv[i + 1]);
+    const int eq = kv.indexOf('=');
+    if (eq <= 0) return usage();
+    overrides.append({kv.left(eq), kv.mid(eq + 1)});
+  }
 
   QPluginLoader loader(pluginPath);
   QObject* instance = loader.instance();
@@ -209,7 +263,18 @@ int run(int argc, char** argv) {
   filters->initParameterSet(action, md, params);
 
   if (mode == "--write") {
-    if (!writeScript(scriptPath, filterName, params)) {
+    for (const Override& o : overrides) {
+      const RichParameter* rp = nullptr;
+      for (const RichParameter& p : params)
+        if (p.name() == o.name) rp = &p;
+      if (rp == nullptr) {
+        std::fprintf(stderr, "--set %s: '%s' has no such parameter\n", qUtf8Printable(o.name),
+                     qUtf8Printable(filterName));
+        return 2;
+      }
+      if (!overrideParses(*rp, o.value)) return 2;
+    }
+    if (!writeScript(scriptPath, filterName, params, overrides)) {
       std::fprintf(stderr, "cannot write '%s'\n", qUtf8Printable(scriptPath));
       return 2;
     }
