@@ -61,6 +61,20 @@ struct SodtParams {
   /// distance to the input. Not used by Denoise, whose purpose is to leave
   /// the noisy input surface, nor with Guard::None.
   double maxDeviationRel = 0.001;
+  /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
+  /// is off by default, as in the paper.
+  bool flips = false;
+  /// Only edges whose two faces' normals differ by less than this are
+  /// flipped, in degrees (0..90); creases sharper than it are never flipped.
+  double flipMaxDihedralDeg = 20.0;
+  /// Return the best state seen (largest minimum angle, then largest 1st
+  /// percentile of the per-triangle minimum angle), the input included,
+  /// instead of the last one.
+  bool keepBest = false;
+  /// Stop early once a sweep raises neither the minimum angle nor the 1st
+  /// percentile of the per-triangle minimum angle by more than this many
+  /// degrees (0 runs every sweep).
+  double toleranceDeg = 0.0;
   /// Denoise only: largest displacement of a vertex along its fitted normal in
   /// one sweep, in units of the mesh's mean edge length. Bounds how far the
   /// surface can drift from the input however many sweeps run.
@@ -82,6 +96,10 @@ struct SodtParams {
       throw InvalidInput("eta must be a positive number below 1e6, got " + std::to_string(eta));
     if (!(maxDeviationRel >= 0) || !(maxDeviationRel <= 1))
       throw InvalidInput("maxDeviationRel must be in [0, 1], got " + std::to_string(maxDeviationRel));
+    if (!(flipMaxDihedralDeg >= 0) || !(flipMaxDihedralDeg <= 90))
+      throw InvalidInput("flipMaxDihedralDeg must be in [0, 90], got " + std::to_string(flipMaxDihedralDeg));
+    if (!(toleranceDeg >= 0) || !(toleranceDeg <= 180))
+      throw InvalidInput("toleranceDeg must be in [0, 180], got " + std::to_string(toleranceDeg));
     if (!(maxNormalStepRel >= 0) || !(maxNormalStepRel <= 10))
       throw InvalidInput("maxNormalStepRel must be in [0, 10], got " + std::to_string(maxNormalStepRel));
   }
@@ -103,6 +121,9 @@ struct SodtStats {
   int smoothVertices = 0;      ///< classified smooth (all of them with Algorithm::Basic)
   int creaseVertices = 0;      ///< classified crease (Feature, Denoise)
   int cornerVertices = 0;      ///< classified corner, kept fixed (Feature, Denoise)
+  long long flips = 0;         ///< edges flipped between sweeps
+  int returnedSweep = -1;      ///< sweeps behind the returned state (keepBest may return an earlier one)
+  bool stoppedEarly = false;   ///< a sweep improved the quality by less than toleranceDeg
   bool cancelled = false;      ///< the progress callback asked to stop
 };
 

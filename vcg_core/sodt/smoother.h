@@ -5,12 +5,14 @@
 
 #include "classify.h"
 #include "fitting.h"
+#include "flips.h"
 #include "local_solve.h"
 #include "params.h"
 #include "topology.h"
 
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/normal.h>
+#include <vcg/complex/algorithms/update/topology.h>
 #include <vcg/complex/complex.h>
 #include <wrap/callback.h>
 
@@ -69,7 +71,8 @@ struct SodtSmoother {
       if (!isFinite(pos[i]))
         throw InvalidInput("vertex " + std::to_string(i) + " has a non-finite coordinate");
     }
-    const RingTopology topo = buildRingTopology(m);
+    const RingTopology topo0 = buildRingTopology(m);
+    RingTopology topo = topo0;  // rebuilt after edge flips
     const double meanEdge = meanEdgeLength(m);
 
     Classification cls;
@@ -141,10 +144,25 @@ struct SodtSmoother {
     }
 
     const std::vector<Vec3> pos0 = pos;
+    FaceList faces = faceList(m, p.selectedOnly);
+    const FaceList faces0 = faces;
     const bool deviationGuard =
         p.guard != Guard::None && p.algorithm != Algorithm::Denoise && p.maxDeviationRel > 0;
     const double devLimit = p.maxDeviationRel * bboxDiagonal(pos, topo);
     Context ctx{p, cls, fit, meanEdge, devLimit * devLimit};
+    FlipRules flipRules;
+    flipRules.maxDihedralRad = p.flipMaxDihedralDeg * kPi / 180.0;
+    if (p.algorithm != Algorithm::Basic) flipRules.cls = &cls.cls;
+
+    // Best state seen, for keepBest (the input is state 0), and the last
+    // quality, for toleranceDeg.
+    const bool measuring = p.keepBest || p.toleranceDeg > 0;
+    Quality last = measuring ? measureQuality(faces, pos) : Quality{};
+    Quality best = last;
+    std::vector<Vec3> bestPos = p.keepBest ? pos : std::vector<Vec3>();
+    FaceList bestFaces = p.keepBest && p.flips ? faces : FaceList();
+    int bestSweep = 0;
+
     Star star;
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
       for (int i : active) {
@@ -155,16 +173,61 @@ struct SodtSmoother {
           star.ring.push_back(pos[topo.ringIdx[k]]);
           if (!faceNormal.empty()) star.refNormal.push_back(faceNormal[topo.ringFace[k]]);
         }
-        if (deviationGuard) gatherInputPatch(m, topo, pos0, i, star.refPatch);
+        if (deviationGuard) gatherInputPatch(faces0, topo0, pos0, i, star.refPatch);
         count(stats, visitVertex(ctx, i, star, pos[i]));
       }
       ++stats.iterations;
-      if (cb && !cb(100 * (it + 1) / p.iterations,
-                    ("S-ODT sweep " + std::to_string(it + 1) + "/" + std::to_string(p.iterations))
-                        .c_str())) {
+      if (p.flips) {
+        int flipped = 0;
+        for (int pass = 0; pass < kMaxFlipPasses; ++pass) {
+          const int n = flipPass(faces, pos, flipRules, &faceNormal);
+          flipped += n;
+          if (n == 0) break;
+        }
+        if (flipped > 0) {
+          stats.flips += flipped;
+          writeFaces(m, faces);
+          topo = buildRingTopology(m);
+        }
+      }
+      bool stop = false;
+      if (measuring) {
+        const Quality q = measureQuality(faces, pos);
+        if (p.keepBest && q.better(best)) {
+          best = q;
+          bestSweep = it + 1;
+          bestPos = pos;
+          if (p.flips) bestFaces = faces;
+        }
+        stop = p.toleranceDeg > 0 && q.minDeg - last.minDeg <= p.toleranceDeg &&
+               q.p1Deg - last.p1Deg <= p.toleranceDeg;
+        last = q;
+      }
+      const bool goOn = !cb || cb(100 * (it + 1) / p.iterations,
+                                  ("S-ODT sweep " + std::to_string(it + 1) + "/" +
+                                   std::to_string(p.iterations)).c_str());
+      if (stop) {
+        stats.stoppedEarly = true;
+        break;
+      }
+      if (!goOn) {
         stats.cancelled = true;
         break;
       }
+    }
+    stats.returnedSweep = stats.iterations;
+    if (p.keepBest && bestSweep != stats.iterations) {
+      pos = bestPos;
+      if (p.flips) {
+        faces = bestFaces;
+        writeFaces(m, faces);
+      }
+      stats.returnedSweep = bestSweep;
+    }
+    if (stats.flips > 0) {
+      // Flips invalidate any adjacency the caller had computed.
+      if (vcg::tri::HasFFAdjacency(m)) vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+      if (vcg::tri::HasVFAdjacency(m)) vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
     }
 
     for (int i : active)
@@ -193,21 +256,72 @@ struct SodtSmoother {
     return out;
   }
 
+  /// Flip passes after a sweep, at most (each pass flips an edge only when
+  /// the pair's smaller angle grows, so passes end anyway).
+  static constexpr int kMaxFlipPasses = 10;
+
+  /// Smallest angle and 1st percentile of the per-triangle smallest angle, in degrees.
+  struct Quality {
+    double minDeg = 0, p1Deg = 0;
+    bool better(const Quality& o) const { return minDeg > o.minDeg || (minDeg == o.minDeg && p1Deg > o.p1Deg); }
+  };
+
+  static Quality measureQuality(const FaceList& faces, const std::vector<Vec3>& pos) {
+    std::vector<double> tmin;
+    tmin.reserve(faces.tri.size());
+    for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+      if (!faces.live[f]) continue;
+      const auto& t = faces.tri[f];
+      tmin.push_back(triangleMinAngle(pos[t[0]], pos[t[1]], pos[t[2]]) * kRadToDeg);
+    }
+    Quality q;
+    if (tmin.empty()) return q;
+    const std::size_t idx = static_cast<std::size_t>(std::floor(0.01 * double(tmin.size() - 1)));
+    std::nth_element(tmin.begin(), tmin.begin() + idx, tmin.end());
+    q.p1Deg = tmin[idx];
+    q.minDeg = *std::min_element(tmin.begin(), tmin.begin() + idx + 1);
+    return q;
+  }
+
+  /// The live faces of m as index triples; with selectedOnly a face may be
+  /// flipped only when it is selected or all its vertices are.
+  static FaceList faceList(const MeshType& m, bool selectedOnly) {
+    FaceList fl;
+    fl.tri.resize(m.face.size());
+    fl.live.assign(m.face.size(), 0);
+    fl.flippable.assign(m.face.size(), 0);
+    for (std::size_t f = 0; f < m.face.size(); ++f) {
+      const auto& F = m.face[f];
+      if (F.IsD()) continue;
+      bool sel = F.IsS();
+      for (int j = 0; j < 3; ++j) fl.tri[f][j] = static_cast<int>(F.cV(j) - &m.vert[0]);
+      if (!sel) sel = F.cV(0)->IsS() && F.cV(1)->IsS() && F.cV(2)->IsS();
+      fl.live[f] = 1;
+      fl.flippable[f] = !selectedOnly || sel;
+    }
+    return fl;
+  }
+
+  /// Writes the vertex references of the face list back into m.
+  static void writeFaces(MeshType& m, const FaceList& fl) {
+    for (std::size_t f = 0; f < m.face.size(); ++f)
+      if (fl.live[f])
+        for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[fl.tri[f][j]];
+  }
+
   /// The input faces incident to vertex i, then those incident to its ring
   /// neighbours (shared faces repeat; harmless), as vertex triples at the
   /// input positions.
-  static void gatherInputPatch(const MeshType& m, const RingTopology& topo, const std::vector<Vec3>& pos0, int i,
-                               std::vector<Vec3>& patch) {
+  static void gatherInputPatch(const FaceList& faces0, const RingTopology& topo0, const std::vector<Vec3>& pos0,
+                               int i, std::vector<Vec3>& patch) {
     patch.clear();
     auto addFacesOf = [&](int v) {
-      if (topo.kind[v] != VertexKind::Interior) return;
-      for (int k = topo.ringBegin[v]; k < topo.ringBegin[v + 1]; ++k) {
-        const auto& f = m.face[topo.ringFace[k]];
-        for (int j = 0; j < 3; ++j) patch.push_back(pos0[f.cV(j) - &m.vert[0]]);
-      }
+      if (topo0.kind[v] != VertexKind::Interior) return;
+      for (int k = topo0.ringBegin[v]; k < topo0.ringBegin[v + 1]; ++k)
+        for (int j = 0; j < 3; ++j) patch.push_back(pos0[faces0.tri[topo0.ringFace[k]][j]]);
     };
     addFacesOf(i);
-    for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k) addFacesOf(topo.ringIdx[k]);
+    for (int k = topo0.ringBegin[i]; k < topo0.ringBegin[i + 1]; ++k) addFacesOf(topo0.ringIdx[k]);
   }
 
   /// Read-only state shared by all visits of a run.
