@@ -32,7 +32,8 @@ struct Outcome {
 };
 
 Outcome run(const std::string& file, sodt::Guard guard, sodt::MeshD* out = nullptr,
-            sodt::Algorithm algorithm = sodt::Algorithm::Basic, sodt::Classification* cls = nullptr) {
+            sodt::Algorithm algorithm = sodt::Algorithm::Basic, sodt::Classification* cls = nullptr,
+            bool flips = false) {
   sodt::MeshD m, ref;
   sodt::loadMesh(file, m);
   sodt::loadMesh(file, ref);
@@ -43,6 +44,7 @@ Outcome run(const std::string& file, sodt::Guard guard, sodt::MeshD* out = nullp
   p.guard = guard;
   p.iterations = 20;
   p.algorithm = algorithm;
+  p.flips = flips;
   o.stats = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p, nullptr, cls);
   o.after = sodt::computeAngleStats(m);
   o.closed = v0.closed;
@@ -178,4 +180,47 @@ TEST(Acceptance, HingeAlgorithm2StaysOnTheCadSurface) {
   EXPECT_EQ(o.inverted, 0);
   EXPECT_LE(o.hausdorffToInput, 0.005);
   EXPECT_GE(o.after.minDeg, o.before.minDeg);
+}
+
+TEST(Acceptance, MolAWithFlips) {
+  REQUIRE_SHARED("mol_a.ply");
+  const Outcome o = run(shared("mol_a.ply"), sodt::Guard::Quality, nullptr, sodt::Algorithm::Basic, nullptr, true);
+  EXPECT_GT(o.stats.flips, 0);
+  EXPECT_GE(o.after.minDeg, 28.0);
+  EXPECT_LE(o.after.fracBelow30, 0.001);
+  EXPECT_LE(o.hausdorffToInput, 0.0015);
+  EXPECT_LE(o.volRel(), 1e-4);
+}
+
+TEST(Acceptance, FandiskAlgorithm2WithFlipsNeverFlipsACrease) {
+  REQUIRE_SHARED("fandisk.ply");
+  sodt::MeshD out, in;
+  sodt::loadMesh(shared("fandisk.ply"), in);
+  sodt::Classification cls;
+  const Outcome o =
+      run(shared("fandisk.ply"), sodt::Guard::Quality, &out, sodt::Algorithm::Feature, &cls, true);
+  EXPECT_GT(o.stats.flips, 0);
+  EXPECT_GE(o.after.minDeg, 28.0);
+  EXPECT_LE(o.hausdorffToInput, 0.003);
+  for (std::size_t i = 0; i < in.vert.size(); ++i)
+    if (cls.cls[i] == sodt::VertexClass::Corner) EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i;
+  const auto after = dihedralAngles(out);
+  int creases = 0;
+  for (const auto& kv : dihedralAngles(in)) {
+    if (kv.second <= 30) continue;
+    ++creases;
+    EXPECT_TRUE(after.count(kv.first)) << "crease edge " << kv.first.first << "-" << kv.first.second << " flipped";
+  }
+  EXPECT_GT(creases, 0);
+}
+
+TEST(Acceptance, SliveredSpotWithFlips) {
+  REQUIRE_SHARED("spot_badquality.ply");
+  REQUIRE_SHARED("spot.ply");
+  sodt::MeshD out, input, clean;
+  const Outcome o = run(shared("spot_badquality.ply"), sodt::Guard::Quality, &out, sodt::Algorithm::Basic, nullptr, true);
+  sodt::loadMesh(shared("spot_badquality.ply"), input);
+  sodt::loadMesh(shared("spot.ply"), clean);
+  EXPECT_GE(o.after.minDeg, 15.0);
+  EXPECT_LE(sodt::hausdorffRel(out, clean), sodt::hausdorffRel(input, clean));
 }
