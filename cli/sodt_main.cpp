@@ -348,6 +348,29 @@ void printSmoothHelp() {
       "  --max-normal-step X   denoise only: largest move of a vertex along its fitted\n"
       "                        normal per sweep, as a fraction of the mean edge length,\n"
       "                        0..10 (default %s)\n"
+      "  --flips               flip edges between sweeps (default %s, as in the paper).\n"
+      "                        This changes the connectivity (vertex and face counts stay\n"
+      "                        the same). An interior edge is flipped only between two\n"
+      "                        nearly coplanar triangles (see --flip-max-dihedral) and\n"
+      "                        only when the smaller angle of the pair grows; never a\n"
+      "                        crease edge of feature or denoise (both ends crease or\n"
+      "                        corner vertices), never onto an existing edge (which would\n"
+      "                        make it non-manifold), never into a fold. When the\n"
+      "                        returned mesh has other faces than IN, the report's\n"
+      "                        inverted_faces is null (it compares face by face)\n"
+      "  --flip-max-dihedral DEG\n"
+      "                        with --flips: flip only edges whose two faces' normals\n"
+      "                        differ by less than DEG degrees, 0..90 (default %s)\n"
+      "  --keep-best           return the best state seen instead of the last one: the\n"
+      "                        largest smallest angle, then the largest 1st percentile of\n"
+      "                        the per-triangle smallest angle. IN is a candidate, so the\n"
+      "                        smallest angle never ends below IN's. Only angles count:\n"
+      "                        with --guard none the best state may hold folded\n"
+      "                        triangles (default %s)\n"
+      "  --tolerance DEG       stop early once a sweep raises neither the smallest angle\n"
+      "                        nor the 1st percentile of the per-triangle smallest angle\n"
+      "                        by more than DEG degrees, 0..180 (default %s: run every\n"
+      "                        sweep)\n"
       "  --selected-only       move only selected vertices. The selection is read from\n"
       "                        the PLY per-vertex 'flags' property (MeshLab: export with\n"
       "                        'Flags' ticked); plain PLY and OFF files select nothing,\n"
@@ -364,7 +387,8 @@ void printSmoothHelp() {
       "  -h, --help            show this help\n"
       "\n"
       "The progress bar is drawn on stderr only when stderr is a terminal.\n",
-      numberText(100.0 * d.maxDeviationRel).c_str(), numberText(d.maxNormalStepRel).c_str());
+      numberText(100.0 * d.maxDeviationRel).c_str(), numberText(d.maxNormalStepRel).c_str(),
+      d.flips ? "on" : "off", numberText(d.flipMaxDihedralDeg).c_str(), d.keepBest ? "on" : "off", numberText(d.toleranceDeg).c_str());
 }
 
 void printClassifyHelp() {
@@ -556,7 +580,8 @@ bool parseSmooth(const std::vector<std::string>& args, SmoothOptions& o) {
       {"--algorithm", true}, {"--iterations", true}, {"--guard", true},  {"--max-backtracks", true},
       {"--laplacian-fallback", true}, {"--selected-only", false}, {"--report", true}, {"--quiet", false},
       {"--epsilon", true}, {"--eta", true}, {"--max-deviation", true}, {"--max-normal-step", true},
-      {"--classes-out", true}};
+      {"--classes-out", true}, {"--flips", false}, {"--flip-max-dihedral", true}, {"--keep-best", false},
+      {"--tolerance", true}};
   const ParsedArgs a = parseArgs(args, specs, kSmoothHelp);
   if (a.help) {
     printSmoothHelp();
@@ -595,6 +620,19 @@ bool parseSmooth(const std::vector<std::string>& args, SmoothOptions& o) {
         const double x = parseNonNegativeValue(name, v, kSmoothHelp);
         if (x > 10) throw UsageError("option '--max-normal-step' must be in [0, 10], got " + v, kSmoothHelp);
         o.params.maxNormalStepRel = x;
+      } else if (name == "--flips") {
+        o.params.flips = true;
+      } else if (name == "--flip-max-dihedral") {
+        const double x = parseNonNegativeValue(name, v, kSmoothHelp);
+        if (x > 90)
+          throw UsageError("option '--flip-max-dihedral' must be in [0, 90] degrees, got " + v, kSmoothHelp);
+        o.params.flipMaxDihedralDeg = x;
+      } else if (name == "--keep-best") {
+        o.params.keepBest = true;
+      } else if (name == "--tolerance") {
+        const double x = parseNonNegativeValue(name, v, kSmoothHelp);
+        if (x > 180) throw UsageError("option '--tolerance' must be in [0, 180] degrees, got " + v, kSmoothHelp);
+        o.params.toleranceDeg = x;
       } else if (name == "--classes-out") {
         if (v.empty()) throw UsageError("option '--classes-out' needs a file name", kSmoothHelp);
         o.classesOut = v;
@@ -668,7 +706,11 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const Measures& 
   else
     std::printf("  distance       Hausdorff %.3e, mean %.3e (relative to the input's bbox diagonal)\n",
                 dist.hausdorff, dist.mean);
-  std::printf("  inverted       %lld faces turned by more than 90 deg\n", inverted);
+  if (inverted >= 0)
+    std::printf("  inverted       %lld faces turned by more than 90 deg\n", inverted);
+  else
+    std::printf("  inverted       n/a (%s)\n",
+                st.flips > 0 ? "connectivity changed by flips" : "the faces differ from the input's");
   std::printf("  vertex visits  moved %lld, backtracked %lld, Laplacian fallback %lld, rejected %lld, failed %lld, "
               "unchanged %lld\n",
               st.moved, st.backtracked, st.fallbackMoves, st.rejected, st.failedSolves, st.unchanged);
@@ -688,6 +730,21 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const Measures& 
               numberText(100.0 * o.params.maxDeviationRel).c_str(),
               a == sodt::Algorithm::Denoise || o.params.guard == sodt::Guard::None ? unused : "",
               numberText(o.params.maxNormalStepRel).c_str(), a != sodt::Algorithm::Denoise ? unused : "");
+  if (o.params.flips)
+    std::printf("  flips          %lld edges flipped (max dihedral %s deg)%s\n", st.flips,
+                numberText(o.params.flipMaxDihedralDeg).c_str(),
+                inverted >= 0 && st.flips > 0 ? "; the returned state has the input's connectivity" : "");
+  else
+    std::printf("  flips          off\n");
+  std::printf("  returned       the state after sweep %d of %d (keep best %s)", st.returnedSweep, st.iterations,
+              o.params.keepBest ? "on" : "off");
+  if (st.stoppedEarly)
+    std::printf("; stopped early: the last sweep raised the min angle and p1 by at most %s deg\n",
+                numberText(o.params.toleranceDeg).c_str());
+  else if (o.params.toleranceDeg > 0)
+    std::printf("; tolerance %s deg not reached\n", numberText(o.params.toleranceDeg).c_str());
+  else
+    std::printf("\n");
   if (!o.classesOut.empty()) std::printf("  classes out    %s\n", o.classesOut.c_str());
 }
 
@@ -711,11 +768,18 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const Measures&
   j.member("eta", o.params.eta);
   j.member("max_deviation_percent", 100.0 * o.params.maxDeviationRel);
   j.member("max_normal_step", o.params.maxNormalStepRel);
+  j.member("flips_enabled", o.params.flips);
+  j.member("flip_max_dihedral", o.params.flipMaxDihedralDeg);
+  j.member("keep_best", o.params.keepBest);
+  j.member("tolerance", o.params.toleranceDeg);
   if (o.classesOut.empty())
     j.memberNull("classes_output");
   else
     j.member("classes_output", o.classesOut);
   j.member("sweeps", st.iterations);
+  j.member("returned_sweep", st.returnedSweep);
+  j.member("stopped_early", st.stoppedEarly);
+  j.member("flips", st.flips);
   j.member("seconds", seconds);
   j.member("min_angle_before", before.angles.minDeg);
   j.member("min_angle_after", after.angles.minDeg);

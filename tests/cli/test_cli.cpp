@@ -8,6 +8,7 @@
 #include <sodt/output.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -453,6 +454,34 @@ TEST_F(CliTest, BadFeatureParameterValuesAreUsageErrors) {
   expectOnly({"in.off"});
 }
 
+TEST_F(CliTest, BadFlipAndToleranceValuesAreUsageErrors) {
+  const std::string out = dir_ / "out.ply";
+  for (const char* v : {"-1", "91", "abc", "90.5", "nan", "", "1e999"}) {
+    const RunResult r = runSodt({"smooth", in_, out, "--flips", "--flip-max-dihedral", v}, dir_);
+    expectUsageError(r);
+    EXPECT_NE(r.err.find("--flip-max-dihedral"), std::string::npos) << v << ": " << r.err;
+  }
+  for (const char* v : {"-1", "abc", "180.5", "inf", "", "0x1"}) {
+    const RunResult r = runSodt({"smooth", in_, out, "--tolerance", v}, dir_);
+    expectUsageError(r);
+    EXPECT_NE(r.err.find("--tolerance"), std::string::npos) << v << ": " << r.err;
+  }
+  expectUsageError(runSodt({"smooth", in_, out, "--tolerance=-0.5"}, dir_));
+  // The two switches take no value.
+  expectUsageError(runSodt({"smooth", in_, out, "--flips=on"}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--keep-best=yes"}, dir_));
+  expectUsageError(runSodt({"classify", in_, dir_ / "c.ply", "--flips"}, dir_));
+  expectOnly({"in.off"});
+  // The ends of the ranges are accepted.
+  for (const std::vector<std::string>& extra :
+       {std::vector<std::string>{"--flip-max-dihedral", "90"}, std::vector<std::string>{"--flip-max-dihedral", "0"},
+        std::vector<std::string>{"--tolerance", "180"}, std::vector<std::string>{"--tolerance", "0"}}) {
+    std::vector<std::string> args = {"smooth", in_, out, "--iterations", "1", "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    EXPECT_EQ(runSodt(args, dir_).exitCode, 0) << extra[0] << " " << extra[1];
+  }
+}
+
 TEST_F(CliTest, ClassesOutMustBeANewPlyFile) {
   const std::string out = dir_ / "out.ply", report = dir_ / "r.json";
   RunResult r = runSodt({"smooth", in_, out, "--classes-out", out}, dir_);
@@ -491,8 +520,15 @@ TEST_F(CliTest, HelpAndVersion) {
   EXPECT_EQ(r.exitCode, 0);
   for (const char* opt : {"--iterations", "--guard", "--max-backtracks", "--selected-only", "--report", "--quiet",
                           "--algorithm", "feature", "denoise", "--epsilon", "--eta", "--max-deviation",
-                          "--max-normal-step", "--classes-out"})
+                          "--max-normal-step", "--classes-out", "--flips", "--flip-max-dihedral", "--keep-best",
+                          "--tolerance"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
+  // Defaults of the new options from SodtParams: flips off, 20 deg, keep-best off, tolerance 0.
+  EXPECT_NE(r.out.find("(default off, as in the paper)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0..90 (default 20)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0..180 (default 0:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("connectivity"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("non-manifold"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("(default "), std::string::npos);
   EXPECT_NE(r.out.find("(default 0.1;"), std::string::npos) << "--max-deviation default from SodtParams";
   r = runSodt({"classify", "--help"}, dir_);
@@ -636,7 +672,8 @@ TEST_F(CliTest, SmoothImprovesMinAngleAndWritesReport) {
         "min_angle", "max_angle", "angle_histogram", "frac_below_30", "frac_above_90", "p1_tri_min_angle",
         "volume", "volume_before", "volume_after", "volume_rel_change", "hausdorff_rel", "inverted_faces", "moved", "fallback_moves", "laplacian_fallback",
         "backtracked", "rejected", "failed_solves", "unchanged", "fixed_boundary", "fixed_nonmanifold",
-        "cancelled", "min_angle_before", "min_angle_after", "max_angle_before", "max_angle_after"})
+        "cancelled", "min_angle_before", "min_angle_after", "max_angle_before", "max_angle_after", "flips",
+        "flips_enabled", "flip_max_dihedral", "keep_best", "tolerance", "returned_sweep", "stopped_early"})
     EXPECT_NE(json.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
   EXPECT_EQ(jsonNumber(json, "vertices"), mesh_.vertices());
   EXPECT_EQ(jsonNumber(json, "faces"), mesh_.faces());
@@ -649,6 +686,15 @@ TEST_F(CliTest, SmoothImprovesMinAngleAndWritesReport) {
   EXPECT_LT(jsonNumber(json, "hausdorff_rel"), 0.1);
   EXPECT_TRUE(std::isfinite(jsonNumber(json, "volume_rel_change"))) << "the sphere is closed";
   EXPECT_EQ(jsonNumber(json, "iterations"), 20);
+  // Without the new options: no flips, every sweep run and returned.
+  EXPECT_EQ(jsonNumber(json, "flips"), 0);
+  EXPECT_NE(json.find("\"flips_enabled\": false"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"keep_best\": false"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"stopped_early\": false"), std::string::npos) << json;
+  EXPECT_EQ(jsonNumber(json, "flip_max_dihedral"), 20);
+  EXPECT_EQ(jsonNumber(json, "tolerance"), 0);
+  EXPECT_EQ(jsonNumber(json, "returned_sweep"), 20);
+  EXPECT_NE(r.out.find("flips          off"), std::string::npos) << r.out;
   expectOnly({"in.off", "out.ply", "report.json"});
 
   // The output reads back with the same counts and the reported angles.
@@ -816,6 +862,18 @@ TEST_F(CliTest, ParametersReachTheReport) {
   EXPECT_NEAR(jsonNumber(json, "max_normal_step"), 0.1, 1e-12);
   EXPECT_NE(r.out.find("epsilon 3.5"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("max deviation 0.5%"), std::string::npos) << r.out;
+  // The flip, keep-best and tolerance settings as well.
+  const RunResult f = runSodt({"smooth", in_, dir_ / "out.ply", "--flips", "--flip-max-dihedral", "35.5",
+                               "--keep-best", "--tolerance=1e-3", "--iterations", "3", "--report", report},
+                              dir_);
+  ASSERT_EQ(f.exitCode, 0) << f.err;
+  const std::string fj = readFile(report);
+  EXPECT_NE(fj.find("\"flips_enabled\": true"), std::string::npos) << fj;
+  EXPECT_EQ(jsonNumber(fj, "flip_max_dihedral"), 35.5);
+  EXPECT_NE(fj.find("\"keep_best\": true"), std::string::npos) << fj;
+  EXPECT_EQ(jsonNumber(fj, "tolerance"), 1e-3);
+  EXPECT_NE(f.out.find("max dihedral 35.5 deg"), std::string::npos) << f.out;
+  EXPECT_NE(f.out.find("keep best on"), std::string::npos) << f.out;
   // 0 disables the deviation guard: accepted.
   EXPECT_EQ(runSodt({"smooth", in_, dir_ / "out.ply", "--max-deviation", "0", "--iterations", "1", "--quiet"}, dir_)
                 .exitCode,
@@ -944,6 +1002,124 @@ TEST_F(CliTest, BundledBlobsMesh) {
   const std::string json = readFile(report);
   EXPECT_GE(jsonNumber(json, "min_angle_after"), jsonNumber(json, "min_angle_before"));
   EXPECT_EQ(jsonNumber(json, "inverted_faces"), 0);
+}
+
+/// Vertex index triples of the faces of a mesh file, in file order.
+std::vector<std::array<int, 3>> faceIndices(const sodt::MeshD& m) {
+  std::vector<std::array<int, 3>> f;
+  for (const auto& face : m.face)
+    if (!face.IsD())
+      f.push_back({int(face.cV(0) - &m.vert[0]), int(face.cV(1) - &m.vert[0]), int(face.cV(2) - &m.vert[0])});
+  return f;
+}
+
+TEST_F(CliTest, FlipsOnBundledBlobsChangeConnectivityOnly) {
+  const std::string blobs = std::string(SODT_MESH_DIR) + "/blobs_mc.ply";
+  if (!exists(blobs)) GTEST_SKIP() << blobs << " is missing (generated into meshes/)";
+  const std::string out = dir_ / "flipped.ply", report = dir_ / "r.json", classes = dir_ / "classes.ply";
+  const RunResult r =
+      runSodt({"smooth", blobs, out, "--flips", "--report", report, "--classes-out", classes}, dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string json = readFile(report);
+  EXPECT_GT(jsonNumber(json, "flips"), 0) << json;
+  EXPECT_NE(json.find("\"flips_enabled\": true"), std::string::npos) << json;
+  // The input's faces no longer correspond: no inverted-face count, but the
+  // connectivity-free measures are still there.
+  EXPECT_NE(json.find("\"inverted_faces\": null"), std::string::npos) << json;
+  EXPECT_NE(r.out.find("inverted       n/a (connectivity changed by flips)"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::isfinite(jsonNumber(json, "hausdorff_rel"))) << json;
+  EXPECT_LT(jsonNumber(json, "hausdorff_rel"), 0.01) << json;
+  EXPECT_TRUE(std::isfinite(jsonNumber(json, "volume_rel_change"))) << "still closed: " << json;
+  EXPECT_LT(std::fabs(jsonNumber(json, "volume_rel_change")), 1e-3) << json;
+  const double lo0 = jsonNumber(json, "min_angle_before"), lo1 = jsonNumber(json, "min_angle_after");
+  EXPECT_GE(lo1, lo0) << json;
+  EXPECT_EQ(jsonNumber(json, "returned_sweep"), jsonNumber(json, "sweeps"));
+
+  // OUT: same vertices and face count, other faces, all proper triangles.
+  sodt::MeshD in, o;
+  sodt::loadMesh(blobs, in);
+  sodt::loadMesh(out, o);
+  ASSERT_EQ(o.vn, in.vn);
+  ASSERT_EQ(o.fn, in.fn);
+  const auto fin = faceIndices(in), fout = faceIndices(o);
+  ASSERT_EQ(fin.size(), fout.size());
+  int changed = 0, degenerate = 0;
+  for (std::size_t f = 0; f < fin.size(); ++f) {
+    changed += fin[f] != fout[f];
+    degenerate += fout[f][0] == fout[f][1] || fout[f][1] == fout[f][2] || fout[f][2] == fout[f][0];
+  }
+  EXPECT_GT(changed, 0);
+  EXPECT_EQ(degenerate, 0);
+  // Read back, OUT is closed, oriented and edge-manifold, with the reported angles.
+  const RunResult s = runSodt({"stats", out, "--reference", blobs}, dir_);
+  ASSERT_EQ(s.exitCode, 0) << s.err;
+  EXPECT_NE(s.out.find("\"closed\": true"), std::string::npos) << s.out;
+  EXPECT_NEAR(jsonNumber(s.out, "min_angle"), lo1, 1e-9);
+  EXPECT_NE(s.out.find("\"inverted_faces\": null"), std::string::npos) << s.out;
+
+  // --classes-out holds OUT's vertices with valid codes (basic: all smooth).
+  const ClassMesh c = readClassMesh(classes);
+  EXPECT_EQ(c.badQuality + c.badColor, 0);
+  ASSERT_EQ(c.pos.size(), static_cast<std::size_t>(o.vn));
+  EXPECT_EQ(c.count[0], o.vn);
+  for (int i = 0; i < o.vn; ++i) EXPECT_EQ(c.pos[i], o.vert[i].cP()) << i;
+  sodt::MeshD cm;
+  sodt::loadMesh(classes, cm);
+  EXPECT_TRUE(faceIndices(cm) == fout) << "the classes mesh has OUT's faces";
+}
+
+TEST_F(CliTest, KeepBestFallsBackWhenThePaperUpdateDegrades) {
+  const std::string blobs = std::string(SODT_MESH_DIR) + "/blobs_mc.ply";
+  if (!exists(blobs)) GTEST_SKIP() << blobs << " is missing (generated into meshes/)";
+  const std::string out = dir_ / "out.ply", report = dir_ / "r.json";
+  // The literal paper update (no guard) degrades this marching-cubes mesh...
+  RunResult r = runSodt({"smooth", blobs, out, "--guard", "none", "--iterations", "20", "--report", report,
+                         "--quiet"},
+                        dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::string json = readFile(report);
+  EXPECT_LT(jsonNumber(json, "min_angle_after"), jsonNumber(json, "min_angle_before")) << json;
+  EXPECT_EQ(jsonNumber(json, "returned_sweep"), 20);
+
+  // ... and --keep-best returns the best state seen instead.
+  r = runSodt({"smooth", blobs, out, "--keep-best", "--guard", "none", "--iterations", "20", "--report", report},
+              dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  json = readFile(report);
+  const double lo0 = jsonNumber(json, "min_angle_before"), lo1 = jsonNumber(json, "min_angle_after");
+  EXPECT_GE(lo1, lo0) << json;
+  EXPECT_EQ(jsonNumber(json, "sweeps"), 20) << "keep-best alone runs every sweep";
+  const double returned = jsonNumber(json, "returned_sweep");
+  EXPECT_GE(returned, 0);
+  EXPECT_LT(returned, 20) << "the last sweep is not the best here";
+  EXPECT_NE(json.find("\"keep_best\": true"), std::string::npos) << json;
+  EXPECT_NE(r.out.find("keep best on"), std::string::npos) << r.out;
+  // OUT is that state.
+  const RunResult s = runSodt({"stats", out}, dir_);
+  ASSERT_EQ(s.exitCode, 0) << s.err;
+  EXPECT_NEAR(jsonNumber(s.out, "min_angle"), lo1, 1e-9);
+  const RunResult i = runSodt({"stats", blobs}, dir_);
+  EXPECT_GE(jsonNumber(s.out, "min_angle"), jsonNumber(i.out, "min_angle"));
+}
+
+TEST_F(CliTest, ToleranceStopsEarly) {
+  const std::string blobs = std::string(SODT_MESH_DIR) + "/blobs_mc.ply";
+  if (!exists(blobs)) GTEST_SKIP() << blobs << " is missing (generated into meshes/)";
+  const std::string out = dir_ / "out.ply", report = dir_ / "r.json";
+  const RunResult r = runSodt({"smooth", blobs, out, "--tolerance", "0.5", "--iterations", "20", "--report", report},
+                              dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string json = readFile(report);
+  EXPECT_NE(json.find("\"stopped_early\": true"), std::string::npos) << json;
+  const double sweeps = jsonNumber(json, "sweeps");
+  EXPECT_GE(sweeps, 1);
+  EXPECT_LT(sweeps, 20);
+  EXPECT_EQ(jsonNumber(json, "iterations"), 20);
+  EXPECT_EQ(jsonNumber(json, "returned_sweep"), sweeps);
+  EXPECT_EQ(jsonNumber(json, "tolerance"), 0.5);
+  EXPECT_GE(jsonNumber(json, "min_angle_after"), jsonNumber(json, "min_angle_before"));
+  EXPECT_NE(r.out.find("stopped early"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("for " + std::to_string(int(sweeps)) + " sweeps"), std::string::npos) << r.out;
 }
 
 }  // namespace

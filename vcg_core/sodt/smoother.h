@@ -64,13 +64,17 @@ struct SodtSmoother {
     SodtStats stats;
     const int nv = static_cast<int>(m.vert.size());
     std::vector<Vec3> pos(nv);
+    int nonFinite = 0, firstNonFinite = -1;
     for (int i = 0; i < nv; ++i) {
       if (m.vert[i].IsD()) continue;
       const CoordType& c = m.vert[i].cP();
       pos[i] = Vec3(c[0], c[1], c[2]);
-      if (!isFinite(pos[i]))
-        throw InvalidInput("vertex " + std::to_string(i) + " has a non-finite coordinate");
+      if (!isFinite(pos[i]) && nonFinite++ == 0) firstNonFinite = i;
     }
+    if (nonFinite > 0)
+      throw InvalidInput(std::to_string(nonFinite) + (nonFinite > 1 ? " vertices have" : " vertex has") +
+                         " a non-finite coordinate (NaN or infinite; first: vertex " +
+                         std::to_string(firstNonFinite) + "); the mesh was not changed");
     const RingTopology topo0 = buildRingTopology(m);
     RingTopology topo = topo0;  // rebuilt after edge flips
     const double meanEdge = meanEdgeLength(m);
