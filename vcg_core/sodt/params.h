@@ -13,6 +13,8 @@ enum class Algorithm : int {
   Basic = 0,    ///< Algorithm 1: closed-form S-ODT move in the tangent plane
   Feature = 1,  ///< Algorithm 2: corners fixed, creases move along the crease, smooth as Basic
   Denoise = 2,  ///< Algorithm 3: as Feature, on fitted planes and crease lines (removes noise)
+  Odt = 3,      ///< reference: Eq. 3 with true areas, minimised numerically in the tangent plane
+  Laplacian = 4,  ///< reference: Eq. 3 with S'_k = 1, i.e. the centroid of the one-ring
 };
 
 /// Per-vertex class of the normal-tensor analysis (paper Eq. 9-10). The
@@ -89,7 +91,7 @@ struct SodtParams {
     const int g = static_cast<int>(guard);
     if (g < 0 || g > 2) throw InvalidInput("guard must be none, fold or quality");
     const int a = static_cast<int>(algorithm);
-    if (a < 0 || a > 2) throw InvalidInput("algorithm must be basic, feature or denoise");
+    if (a < 0 || a > 4) throw InvalidInput("algorithm must be basic, feature, denoise, odt or laplacian");
     if (!(epsilon > 0) || !(epsilon < 1e6))
       throw InvalidInput("epsilon must be a positive number below 1e6, got " + std::to_string(epsilon));
     if (!(eta > 0) || !(eta < 1e6))
@@ -141,6 +143,8 @@ inline const char* toString(Algorithm a) {
     case Algorithm::Basic: return "basic";
     case Algorithm::Feature: return "feature";
     case Algorithm::Denoise: return "denoise";
+    case Algorithm::Odt: return "odt";
+    case Algorithm::Laplacian: return "laplacian";
   }
   return "?";
 }
@@ -153,12 +157,14 @@ inline Guard guardFromString(const std::string& s) {
   throw InvalidInput("unknown guard '" + s + "' (expected none, fold or quality)");
 }
 
-/// Parses "basic" | "feature" | "denoise"; throws InvalidInput otherwise.
+/// Parses "basic" | "feature" | "denoise" | "odt" | "laplacian"; throws InvalidInput otherwise.
 inline Algorithm algorithmFromString(const std::string& s) {
   if (s == "basic") return Algorithm::Basic;
   if (s == "feature") return Algorithm::Feature;
   if (s == "denoise") return Algorithm::Denoise;
-  throw InvalidInput("unknown algorithm '" + s + "' (expected basic, feature or denoise)");
+  if (s == "odt") return Algorithm::Odt;
+  if (s == "laplacian") return Algorithm::Laplacian;
+  throw InvalidInput("unknown algorithm '" + s + "' (expected basic, feature, denoise, odt or laplacian)");
 }
 
 inline const char* toString(VertexClass c) {

@@ -7,6 +7,7 @@
 #include "fitting.h"
 #include "flips.h"
 #include "local_solve.h"
+#include "odt.h"
 #include "params.h"
 #include "topology.h"
 
@@ -80,7 +81,7 @@ struct SodtSmoother {
     const double meanEdge = meanEdgeLength(m);
 
     Classification cls;
-    if (p.algorithm == Algorithm::Basic) {
+    if (p.algorithm == Algorithm::Basic || p.algorithm == Algorithm::Odt || p.algorithm == Algorithm::Laplacian) {
       cls.cls.assign(nv, VertexClass::Fixed);
       cls.creaseDir.assign(nv, Vec3(0, 0, 0));
       for (int i = 0; i < nv; ++i) {
@@ -449,6 +450,19 @@ struct SodtSmoother {
       pr.target = star.center + p;
       pr.fallback = star.center + e * ((centroid - star.center) * e);
       pr.ok = isFinite(pr.target);
+      return pr;
+    }
+
+    if (c.p.algorithm == Algorithm::Odt || c.p.algorithm == Algorithm::Laplacian) {
+      if (c.p.algorithm == Algorithm::Odt) {
+        const LocalMove mv = solveStarOdt(star);
+        if (!mv.ok) return pr;
+        pr.target = mv.target;
+      } else {
+        pr.target = centroid;  // Eq. 3 with every S'_k = 1: not restricted to the tangent plane
+      }
+      pr.fallback = tangentialLaplacianTarget(star, pr.normal);
+      pr.ok = true;
       return pr;
     }
 
