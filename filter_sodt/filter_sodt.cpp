@@ -11,12 +11,14 @@
 #include <sodt/params.h>
 #include <sodt/smoother.h>
 
+#include <vcg/complex/algorithms/update/flag.h>
 #include <vcg/complex/algorithms/update/selection.h>
 
 #include <cstdarg>
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -100,8 +102,9 @@ QString FilterSodtPlugin::filterInfo(FilterIDType filter) const {
       return QString(
                  "Improves the angles of a triangle mesh by moving every interior vertex to the "
                  "minimiser of the suboptimal Delaunay triangulation (S-ODT) energy of its "
-                 "one-ring (Eq. 5 of the paper). The connectivity never changes; boundary and "
-                 "non-manifold vertices stay fixed.<br>"
+                 "one-ring (Eq. 5 of the paper). Boundary and non-manifold vertices stay fixed. "
+                 "The connectivity changes only with <i>Edge flips</i>, which is off by default, "
+                 "as in the paper.<br>"
                  "<br>"
                  "<b>Algorithm</b>. <i>Basic (Algorithm 1)</i>: each vertex moves in its tangent "
                  "plane to the closed-form minimiser (Eqs. 5-8). This keeps the shape and, up to "
@@ -137,13 +140,28 @@ QString FilterSodtPlugin::filterInfo(FilterIDType filter) const {
                  "across creases and bounds the distance to the input. Denoising does not use it, "
                  "since it has to leave the noisy surface.<br>"
                  "<br>"
+                 "<b>Edge flips</b> (an extension, not in the paper): after each sweep, an "
+                 "interior edge whose two triangles' normals differ by less than <i>Flip max "
+                 "dihedral</i> is flipped when that raises the smaller angle of the pair. Crease "
+                 "edges of Algorithms 2 and 3 (both ends crease or corner vertices) are never "
+                 "flipped, and no flip creates an existing edge (non-manifold) or a fold. The "
+                 "vertex and face counts stay the same, but faces get other vertices. Per-face "
+                 "colour, quality and selection stay with the face index. Meshes with per-wedge "
+                 "attributes or polygonal faces are refused.<br>"
+                 "<br>"
+                 "<b>Keep best</b> returns the best state seen instead of the last one: the largest "
+                 "smallest angle, then the largest 1st percentile of the per-triangle smallest "
+                 "angle, the input included. <b>Tolerance</b> (degrees, 0 = off) stops the run "
+                 "once a sweep raises neither of the two by more than the tolerance.<br>"
+                 "<br>"
                  "<b>Output vertex class</b> writes the class each vertex had in the run to its "
                  "quality and colour (with Basic every interior vertex is smooth):") +
              classTableHtml() +
              "The log reports the smallest and largest angle and the fraction of angles below "
              "30&deg; before and after, the enclosed volume of a closed mesh, the vertices per "
-             "class, and how many vertex visits moved, were shortened, rejected or had a "
-             "singular local system.<br>"
+             "class, how many vertex visits moved, were shortened, rejected or had a "
+             "singular local system, the number of edge flips, which sweep's state was returned "
+             "and whether the run stopped early.<br>"
              "<br>"
              "<b>Erratum</b>: for the crease step x0 + d e3 the paper prints d* = -B/(2A) "
              "(Eq. 11 and Algorithms 2-3). Along e3 the energy of Eq. 5 is A d<sup>2</sup> - B d "
@@ -213,9 +231,23 @@ int FilterSodtPlugin::postCondition(QAction* a) const {
     case FP_SODT_SMOOTH:
       // Positions and normals always; the vertex selection when a face
       // selection is converted for "Affect only selection"; quality and
-      // colour with "Output vertex class".
+      // colour with "Output vertex class"; the face-vertex references and the
+      // adjacency with "Edge flips". MM_FACEVERT and the topology bits make the
+      // GUI rebuild the rendering buffers as for a new connectivity
+      // (MainWindow::updateSharedContextDataAfterFilterExecution).
+      //
+      // MM_FACENUMBER although the face count never changes: it turns off the
+      // dialog's Preview (MeshlabStdDialog::isPreviewable), as MeshLab's own
+      // connectivity-changing filters do (MM_GEOMETRY_AND_TOPOLOGY_CHANGE,
+      // MM_ALL for its edge-flip filters). The preview's undo, MeshModelState,
+      // restores coordinates, normals, colours, quality and selection but not
+      // the faces' vertex references, so a previewed run with flips would
+      // leave the flipped faces on the restored positions (where they may
+      // fold) and the next preview or Apply would start from them.
       return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL |
-             MeshModel::MM_VERTFLAGSELECT | MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
+             MeshModel::MM_VERTFLAGSELECT | MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR |
+             MeshModel::MM_FACEVERT | MeshModel::MM_VERTFACETOPO | MeshModel::MM_FACEFACETOPO |
+             MeshModel::MM_FACENUMBER;
     case FP_SODT_CLASSIFY:
       return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTFLAGSELECT;
   }
@@ -261,6 +293,16 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
     p.validate();
     if (m.fn == 0)
       return fail("S-ODT Smoothing needs a triangle mesh, but the current mesh has no faces.");
+    if (p.flips) {
+      // A flip rewires two faces' vertex references; the core knows nothing
+      // of per-wedge data or of the faux edges that describe polygons.
+      if (mm->hasDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_WEDGNORMAL | MeshModel::MM_WEDGCOLOR))
+        return fail("S-ODT Smoothing: flips would scramble the per-wedge texture coordinates, normals or "
+                    "colours of this mesh. Turn 'Edge flips' off, or remove the wedge attributes first.");
+      if (mm->hasDataMask(MeshModel::MM_POLYGONAL))
+        return fail("S-ODT Smoothing: flips would break the polygonal faces of this mesh. Turn 'Edge flips' "
+                    "off, or make it a pure triangle mesh first (filter 'Turn into a Pure-Triangular mesh').");
+    }
 
     if (p.selectedOnly) {
       size_t selected = vcg::tri::UpdateSelection<CMeshO>::VertexCount(m);
@@ -280,8 +322,27 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
     const sodt::AngleStats before = sodt::computeAngleStats(m);
     const sodt::VolumeResult volBefore = sodt::enclosedVolume(m);
 
+    // The faces' vertex references, to tell whether the returned state has
+    // other faces (keepBest may return a state from before the flips).
+    std::vector<const CVertexO*> faceVertsBefore;
+    if (p.flips)
+      for (const CFaceO& f : m.face)
+        for (int j = 0; j < 3; ++j) faceVertsBefore.push_back(f.IsD() ? nullptr : f.cV(j));
+
     sodt::Classification classes;
     const sodt::SodtStats s = sodt::SodtSmoother<CMeshO>::Apply(m, p, cb, &classes);
+    long long facesChanged = 0;
+    if (p.flips)
+      for (size_t f = 0; f < m.face.size(); ++f)
+        for (int j = 0; j < 3; ++j)
+          if (!m.face[f].IsD() && m.face[f].cV(j) != faceVertsBefore[3 * f + size_t(j)]) {
+            ++facesChanged;
+            break;
+          }
+    // Flips move edges between face slots: per-face-edge border flags set
+    // before the run would now describe other edges. (The core has already
+    // rebuilt FF and VF adjacency where they are enabled.)
+    if (s.flips > 0) vcg::tri::UpdateFlags<CMeshO>::FaceBorderFromNone(m);
     mm->UpdateBoxAndNormals();
     if (outputClass) {
       // Without the mask the GUI neither shows nor saves the colours (and
@@ -324,6 +385,22 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
                   "fixed %d boundary and %d non-manifold vertices",
                   s.iterations, s.activeVertices, s.moved, s.backtracked, s.fallbackMoves,
                   s.rejected, s.failedSolves, s.unchanged, s.fixedBoundary, s.fixedNonManifold));
+    if (p.flips)
+      Log(strFormat("S-ODT: edge flips: %lld (max dihedral %g deg); %s", s.flips, p.flipMaxDihedralDeg,
+                    facesChanged > 0
+                        ? strFormat("the connectivity changed: %lld faces have other vertices (same vertex "
+                                    "and face counts)", facesChanged).c_str()
+                        : "the returned state has the input's connectivity"));
+    else
+      Log("S-ODT: edge flips: off");
+    std::string ending;
+    if (s.stoppedEarly)
+      ending = strFormat("; stopped early: the last sweep raised the min angle and its 1st percentile by at "
+                         "most the tolerance %g deg", p.toleranceDeg);
+    else if (p.toleranceDeg > 0)
+      ending = strFormat("; tolerance %g deg not reached", p.toleranceDeg);
+    Log(strFormat("S-ODT: returned the state after sweep %d of %d run (keep best %s)%s", s.returnedSweep,
+                  s.iterations, yesNo(p.keepBest), ending.c_str()));
     if (s.cancelled) Log(GLLogStream::WARNING, "S-ODT: cancelled after %d sweeps", s.iterations);
     return true;
   } catch (const std::exception& e) {

@@ -23,6 +23,10 @@ const char* const kMaxDeviation = "maxDeviation";
 const char* const kEpsilon = "epsilon";
 const char* const kEta = "eta";
 const char* const kMaxNormalStep = "maxNormalStep";
+const char* const kFlips = "flips";
+const char* const kFlipMaxDihedral = "flipMaxDihedral";
+const char* const kKeepBest = "keepBest";
+const char* const kTolerance = "tolerance";
 const char* const kSelectedOnly = "selectedOnly";
 const char* const kOutputClass = "outputClass";
 const char* const kSelectFeatures = "selectFeatures";
@@ -120,6 +124,33 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m) {
       "0.05 = 5%). Bounds how far the surface drifts from the input however many sweeps run; "
       "larger values remove stronger noise. 0 removes no noise."));
   list.addParam(RichBool(
+      kFlips, d.flips, "Edge flips",
+      "Flip edges between sweeps (off by default, as in the paper). This changes the "
+      "connectivity: the vertex and face counts stay, but faces get other vertices. After each "
+      "sweep an interior edge is flipped only when its two triangles are nearly coplanar (see "
+      "Flip max dihedral) and the smaller angle of the pair grows. A crease edge of Algorithms 2 "
+      "and 3 (both ends crease or corner vertices) is never flipped, and no flip creates an edge "
+      "that already exists (non-manifold) or folds the pair. With Affect only selection both "
+      "faces must be selected or have all their vertices selected. Lifts the minimum angle "
+      "further than moving vertices alone. Refused on meshes with per-wedge texture "
+      "coordinates, normals or colours, which a flip would scramble."));
+  list.addParam(RichFloat(
+      kFlipMaxDihedral, float(d.flipMaxDihedralDeg), "Flip max dihedral (deg)",
+      "With Edge flips: only edges whose two triangles' normals differ by less than this angle, "
+      "in degrees (0 to 90), are flipped, so that flips do not change the shape. Sharper edges "
+      "are never flipped."));
+  list.addParam(RichBool(
+      kKeepBest, d.keepBest, "Keep best",
+      "Return the best state seen during the run instead of the last one: the one with the "
+      "largest smallest angle, then the largest 1st percentile of the per-triangle smallest "
+      "angle. The input is a candidate, so the smallest angle never ends below the input's. "
+      "Only angles count: with Guard None the best state may still hold folded triangles."));
+  list.addParam(RichFloat(
+      kTolerance, float(d.toleranceDeg), "Tolerance (deg)",
+      "Stop before Iterations sweeps once a sweep raises neither the smallest angle nor the 1st "
+      "percentile of the per-triangle smallest angle by more than this many degrees (0 to 180). "
+      "0 runs every sweep."));
+  list.addParam(RichBool(
       kSelectedOnly, m.cm.svn > 0 || m.cm.sfn > 0, "Affect only selection",
       "Move only the selected vertices. With a face selection and no vertex selection, the "
       "vertices whose faces are all selected are selected first, so faces outside the "
@@ -149,6 +180,19 @@ sodt::SodtParams readSodtParams(const RichParameterList& list) {
   p.epsilon = list.getFloat(kEpsilon);
   p.eta = list.getFloat(kEta);
   p.maxNormalStepRel = list.getFloat(kMaxNormalStep);
+  p.flips = list.getBool(kFlips);
+  // Range-checked here so that the message names the dialog's keys (the core
+  // names its fields flipMaxDihedralDeg and toleranceDeg).
+  const double flipMaxDihedral = list.getFloat(kFlipMaxDihedral);
+  if (!(flipMaxDihedral >= 0 && flipMaxDihedral <= 90))
+    throw sodt::InvalidInput("flipMaxDihedral must be in [0, 90] (degrees), got " +
+                             std::to_string(flipMaxDihedral));
+  p.flipMaxDihedralDeg = flipMaxDihedral;
+  p.keepBest = list.getBool(kKeepBest);
+  const double tolerance = list.getFloat(kTolerance);
+  if (!(tolerance >= 0 && tolerance <= 180))
+    throw sodt::InvalidInput("tolerance must be in [0, 180] (degrees), got " + std::to_string(tolerance));
+  p.toleranceDeg = tolerance;
   p.selectedOnly = list.getBool(kSelectedOnly);
   return p;
 }

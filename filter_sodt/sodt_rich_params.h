@@ -14,10 +14,13 @@ class RichParameterList;
 /// `guard` (RichEnum), `maxBacktracks` (RichInt), `laplacianFallback`
 /// (RichBool), `maxDeviation` (RichFloat, percent of the bounding-box
 /// diagonal), `epsilon` (RichFloat), `eta` (RichFloat), `maxNormalStep`
-/// (RichFloat, fraction of the mean edge length), `selectedOnly` (RichBool),
-/// `outputClass` (RichBool). Enum indices equal the integer values of
-/// sodt::Algorithm and sodt::Guard. Every default is read from
-/// sodt::SodtParams{} (`maxDeviation` = 100 * maxDeviationRel), except
+/// (RichFloat, fraction of the mean edge length), `flips` (RichBool),
+/// `flipMaxDihedral` (RichFloat, degrees), `keepBest` (RichBool), `tolerance`
+/// (RichFloat, degrees), `selectedOnly` (RichBool), `outputClass` (RichBool).
+/// Enum indices equal the integer values of sodt::Algorithm and sodt::Guard.
+/// Every default is read from sodt::SodtParams{} (`maxDeviation` = 100 *
+/// maxDeviationRel, `flipMaxDihedral` = flipMaxDihedralDeg, `tolerance` =
+/// toleranceDeg), except
 /// `selectedOnly`, which is true when the mesh has a vertex or face selection
 /// (svn > 0 || sfn > 0), and `outputClass`, which is true.
 /// \param list parameter list to extend; keys already present are not checked.
@@ -29,9 +32,11 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m);
 /// `maxDeviation` is converted from percent to the fraction
 /// SodtParams::maxDeviationRel. Everything else is passed through unchecked
 /// (an out-of-range enum index or count coming from a script included), so
-/// that sodt::SodtParams::validate() reports it with the core's message.
-/// \throw sodt::InvalidInput when `maxDeviation` is not in [0, 100] percent:
-///        the core's message would name the fraction, not the dialog's key.
+/// that sodt::SodtParams::validate() reports it with the core's message,
+/// except the three ranges below.
+/// \throw sodt::InvalidInput when `maxDeviation` is not in [0, 100] percent,
+///        `flipMaxDihedral` not in [0, 90] or `tolerance` not in [0, 180]
+///        degrees: the core's message would name its own fields, not the keys.
 /// \throw MLException (a std::exception) when a key is missing from the list.
 sodt::SodtParams readSodtParams(const RichParameterList& list);
 

@@ -8,7 +8,8 @@
 #                              [--meshlab-lib-dir DIR]
 # --script/--mesh: the basic smoothing script and its test mesh; --examples:
 # the folder of the other example scripts (sodt_feature.mlx, sodt_denoise.mlx,
-# sodt_classify.mlx); --mesh-dir: the folder of cube_jitter.ply and cube_noisy.ply.
+# sodt_flips.mlx, sodt_classify.mlx); --mesh-dir: the folder of cube_jitter.ply
+# and cube_noisy.ply.
 # MODE:
 #   listed          `meshlabserver -d` lists "S-ODT Smoothing" and "S-ODT:
 #                   Classify Feature Vertices" exactly once each, both citing
@@ -36,6 +37,16 @@
 #                   colours written, RMS distance to the cube goes down.
 #   bad-epsilon     sodt_feature.mlx and sodt_classify.mlx with epsilon=-1:
 #                   each fails like bad-iterations, naming epsilon.
+#   flips           sodt_flips.mlx (Basic, edge flips and keep best on) on the
+#                   mesh: exit 0, the log reports flips and the returned sweep,
+#                   and the checker's --flipped mode passes (same vertex and
+#                   face counts, other faces, still closed and oriented, min
+#                   angle improved).
+#   bad-flips       sodt_flips.mlx with flipMaxDihedral=91, then with
+#                   tolerance=-1: each fails like bad-iterations, naming the key;
+#                   sodt_flips.mlx on a quad cube (polygonal faces) and on a
+#                   tetrahedron with per-wedge texture coordinates fails the
+#                   same way, since flips would break them.
 # Set SODT_TEST_KEEP=1 to keep the work directory for inspection.
 set -u
 
@@ -62,7 +73,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 pass() { echo "PASS: $*"; exit 0; }
 
 case "$MODE" in
-  listed|smooth|selection|bad-iterations|classify|classify-select|feature|denoise|bad-epsilon) ;;
+  listed|smooth|selection|bad-iterations|classify|classify-select|feature|denoise|bad-epsilon|flips|bad-flips) ;;
   *) echo "unknown mode '$MODE'" >&2; exit 2 ;;
 esac
 [ -f "$PLUGIN" ] || fail "built plugin not found at '$PLUGIN' (build the filter_sodt target first)"
@@ -267,5 +278,87 @@ case "$MODE" in
       expect_clean_failure "epsilon=-1 in $name.mlx" "$OUT" "epsilon must be a positive number"
     done
     pass "epsilon=-1 is rejected by both filters without a crash and without output"
+    ;;
+
+  flips)
+    need_checker
+    need_file "$MESH" "bundled test mesh"
+    FLIPS="$EXAMPLES/sodt_flips.mlx"
+    need_file "$FLIPS" "example script sodt_flips.mlx"
+    OUT="$WORK/out.ply"
+    run_server -i "$MESH" -o "$OUT" -s "$FLIPS"
+    [ "$RC" -eq 0 ] || fail "meshlabserver exited with $RC"
+    [ -s "$OUT" ] || fail "no output mesh written"
+    grep -q "LOG: 2 S-ODT: algorithm basic," "$LOG" || fail "the log does not show algorithm basic"
+    grep -q "LOG: 2 S-ODT: edge flips: [1-9][0-9]* (max dihedral 20 deg); the connectivity changed: [1-9][0-9]* faces" "$LOG" \
+      || fail "the log does not report a positive number of edge flips"
+    grep -q "LOG: 2 S-ODT: returned the state after sweep [0-9]* of [0-9]* run (keep best yes)" "$LOG" \
+      || fail "the log does not report the returned sweep with keep best"
+    run_checker --flipped "$MESH" "$OUT"
+    pass "edge flips changed the connectivity of $(basename "$MESH") and improved its angles"
+    ;;
+
+  bad-flips)
+    need_file "$MESH" "bundled test mesh"
+    need_file "$EXAMPLES/sodt_flips.mlx" "example script sodt_flips.mlx"
+    for kv in flipMaxDihedral=91 tolerance=-1; do
+      name="${kv%%=*}"
+      set_param "$EXAMPLES/sodt_flips.mlx" "$WORK/bad_$name.mlx" "$name" "${kv#*=}"
+      OUT="$WORK/out_$name.ply"
+      run_server -i "$MESH" -o "$OUT" -s "$WORK/bad_$name.mlx"
+      expect_clean_failure "$kv in sodt_flips.mlx" "$OUT" "$name must be in"
+    done
+    # Flips are refused where they would break per-face data MeshLab keeps.
+    cat >"$WORK/quads.ply" <<'PLY'
+ply
+format ascii 1.0
+element vertex 8
+property float x
+property float y
+property float z
+element face 6
+property list uchar int vertex_indices
+end_header
+-1 -1 -1
+1 -1 -1
+1 1 -1
+-1 1 -1
+-1 -1 1
+1 -1 1
+1 1 1
+-1 1 1
+4 0 3 2 1
+4 4 5 6 7
+4 0 1 5 4
+4 2 3 7 6
+4 1 2 6 5
+4 0 4 7 3
+PLY
+    cat >"$WORK/wedge_tex.ply" <<'PLY'
+ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+element face 4
+property list uchar int vertex_indices
+property list uchar float texcoord
+end_header
+0 0 0
+1 0 0
+0 1 0
+0 0 1
+3 0 2 1 6 0 0 0 1 1 0
+3 0 1 3 6 0 0 1 0 0 1
+3 1 2 3 6 1 0 0 1 0 0
+3 2 0 3 6 0 1 0 0 0 0
+PLY
+    run_server -i "$WORK/quads.ply" -o "$WORK/out_quads.ply" -s "$EXAMPLES/sodt_flips.mlx"
+    expect_clean_failure "flips on polygonal faces" "$WORK/out_quads.ply" "flips would break the polygonal faces"
+    run_server -i "$WORK/wedge_tex.ply" -o "$WORK/out_wedge.ply" -s "$EXAMPLES/sodt_flips.mlx"
+    expect_clean_failure "flips with wedge texture coordinates" "$WORK/out_wedge.ply" \
+      "flips would scramble the per-wedge texture coordinates"
+    pass "bad flip parameters, polygonal faces and wedge texture coordinates are rejected without a crash and without output"
     ;;
 esac

@@ -27,6 +27,11 @@
 //       vertex lies on the cube surface (largest |coordinate| is 1 within float
 //       rounding), every vertex on a cube edge stays on it, some vertex moved,
 //       and the smallest angle grew.
+//   sodt_plugin_mesh_check --flipped INPUT.ply OUTPUT.ply
+//       OUTPUT was smoothed with edge flips: the same number of vertices and
+//       faces, some face references other vertices, no face repeats a vertex,
+//       a closed oriented edge-manifold INPUT stays one, and the smallest
+//       angle grew.
 //   sodt_plugin_mesh_check --cube-denoise INPUT.ply OUTPUT.ply
 //       INPUT is a noisy mesh of the cube [-1,1]^3 denoised into OUTPUT: the
 //       RMS distance to the cube surface went down.
@@ -317,6 +322,39 @@ int checkCubeFeature(const std::string& inPath, const std::string& outPath) {
   return report(failures);
 }
 
+int checkFlipped(const std::string& inPath, const std::string& outPath) {
+  Mesh in, out;
+  sodt::loadMesh(inPath, in);
+  sodt::loadMesh(outPath, out);
+  std::vector<std::string> failures;
+  std::printf("vertices: %d -> %d\n", in.vn, out.vn);
+  std::printf("faces: %d -> %d\n", in.fn, out.fn);
+  if (in.vn != out.vn) failures.push_back("the vertex count changed");
+  if (in.fn != out.fn) failures.push_back("the face count changed");
+  if (!failures.empty()) return report(failures);
+  int changed = 0, degenerate = 0;
+  for (int f = 0; f < in.fn; ++f) {
+    bool same = true;
+    for (int j = 0; j < 3; ++j) same = same && vertexIndex(in, in.face[f].cV(j)) == vertexIndex(out, out.face[f].cV(j));
+    if (!same) ++changed;
+    const int a = vertexIndex(out, out.face[f].cV(0)), b = vertexIndex(out, out.face[f].cV(1)),
+              c = vertexIndex(out, out.face[f].cV(2));
+    if (a == b || b == c || c == a) ++degenerate;
+  }
+  const bool closedIn = sodt::isClosedOriented(in), closedOut = sodt::isClosedOriented(out);
+  std::printf("faces with other vertices: %d of %d, repeating a vertex: %d\n", changed, in.fn, degenerate);
+  std::printf("closed, oriented, edge-manifold: %s -> %s\n", closedIn ? "yes" : "no", closedOut ? "yes" : "no");
+  const sodt::AngleStats a = sodt::computeAngleStats(in);
+  const sodt::AngleStats b = sodt::computeAngleStats(out);
+  std::printf("min angle (deg): %.4f -> %.4f\n", a.minDeg, b.minDeg);
+  std::printf("angles below 30 deg: %.3f%% -> %.3f%%\n", 100 * a.fracBelow30, 100 * b.fracBelow30);
+  if (changed == 0) failures.push_back("no face changed its vertices (no flip reached the output)");
+  if (degenerate) failures.push_back("faces repeat a vertex");
+  if (closedIn && !closedOut) failures.push_back("the closed oriented input is no longer closed and oriented");
+  if (!(b.minDeg > a.minDeg)) failures.push_back("the minimum angle did not improve");
+  return report(failures);
+}
+
 int checkCubeDenoise(const std::string& inPath, const std::string& outPath) {
   Mesh in, out;
   sodt::loadMesh(inPath, in);
@@ -336,6 +374,7 @@ int run(int argc, char** argv) {
   if (argc == 4 && std::strcmp(argv[1], "--selection") == 0) return checkSelection(argv[2], argv[3]);
   if (argc == 4 && std::strcmp(argv[1], "--cube-feature") == 0) return checkCubeFeature(argv[2], argv[3]);
   if (argc == 4 && std::strcmp(argv[1], "--cube-denoise") == 0) return checkCubeDenoise(argv[2], argv[3]);
+  if (argc == 4 && std::strcmp(argv[1], "--flipped") == 0) return checkFlipped(argv[2], argv[3]);
   if (argc >= 4 && std::strcmp(argv[1], "--classes") == 0) {
     ClassCheck opt;
     for (int i = 4; i < argc; ++i) {
@@ -359,7 +398,8 @@ int run(int argc, char** argv) {
                "       sodt_plugin_mesh_check --classes INPUT.ply OUTPUT.ply [--codes DIGITS] [--corners N]\n"
                "                              [--cube-corners] [--unmoved] [--selected-features]\n"
                "       sodt_plugin_mesh_check --cube-feature INPUT.ply OUTPUT.ply\n"
-               "       sodt_plugin_mesh_check --cube-denoise INPUT.ply OUTPUT.ply\n");
+               "       sodt_plugin_mesh_check --cube-denoise INPUT.ply OUTPUT.ply\n"
+               "       sodt_plugin_mesh_check --flipped INPUT.ply OUTPUT.ply\n");
   return 2;
 }
 
