@@ -142,9 +142,9 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m) {
   list.addParam(RichBool(
       kKeepBest, d.keepBest, "Keep best",
       "Return the best state seen during the run instead of the last one: the one with the "
-      "largest smallest angle, then the largest 1st percentile of the per-triangle smallest "
-      "angle. The input is a candidate, so the smallest angle never ends below the input's. "
-      "Only angles count: with Guard None the best state may still hold folded triangles."));
+      "fewest faces turned against their input orientation, then the largest smallest angle, "
+      "then the largest 1st percentile of the per-triangle smallest angle. The input is a "
+      "candidate, so the result is never worse than the input by this order."));
   list.addParam(RichFloat(
       kTolerance, float(d.toleranceDeg), "Tolerance (deg)",
       "Stop before Iterations sweeps once a sweep raises neither the smallest angle nor the 1st "
