@@ -36,7 +36,9 @@ constexpr double kPercent = 100.0;
 
 static_assert(static_cast<int>(sodt::Algorithm::Basic) == 0 &&
                   static_cast<int>(sodt::Algorithm::Feature) == 1 &&
-                  static_cast<int>(sodt::Algorithm::Denoise) == 2,
+                  static_cast<int>(sodt::Algorithm::Denoise) == 2 &&
+                  static_cast<int>(sodt::Algorithm::Odt) == 3 &&
+                  static_cast<int>(sodt::Algorithm::Laplacian) == 4,
               "algorithmLabels() is indexed by sodt::Algorithm");
 static_assert(static_cast<int>(sodt::Guard::None) == 0 && static_cast<int>(sodt::Guard::Fold) == 1 &&
                   static_cast<int>(sodt::Guard::Quality) == 2,
@@ -45,7 +47,8 @@ static_assert(static_cast<int>(sodt::Guard::None) == 0 && static_cast<int>(sodt:
 /// Dialog entries of `algorithm`; entry i is sodt::Algorithm(i).
 QStringList algorithmLabels() {
   return QStringList{"Basic (Algorithm 1)", "Feature-preserving (Algorithm 2)",
-                     "Feature-preserving denoising (Algorithm 3)"};
+                     "Feature-preserving denoising (Algorithm 3)", "Reference: numerical ODT (Eq. 3)",
+                     "Reference: Laplacian (Eq. 3, S'k = 1)"};
 }
 
 /// Dialog entries of `guard`; entry i is sodt::Guard(i).
@@ -77,7 +80,11 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m) {
       "eta); corners stay fixed, crease vertices slide along their crease, smooth vertices "
       "move as in Basic. Feature-preserving denoising (Algorithm 3): as Algorithm 2, but "
       "smooth vertices move on a plane fitted to their neighbours (Eqs. 12-13) and crease "
-      "vertices on a line fitted along the crease, which removes noise (see Max normal step)."));
+      "vertices on a line fitted along the crease, which removes noise (see Max normal step). "
+      "The two reference updates are for comparisons: the 'optimal' ODT of Eq. 3 with true "
+      "triangle areas, minimised numerically in the tangent plane (similar quality, slower), "
+      "and Laplacian smoothing, the S'k = 1 case of Eq. 3 (moves to the one-ring centroid, "
+      "off the tangent plane, so it shrinks the surface)."));
   list.addParam(RichInt(
       kIterations, d.iterations, "Iterations",
       "Number of Gauss-Seidel sweeps over all movable vertices (a count, 0 to 100000). "
