@@ -14,6 +14,10 @@ PACKAGES=(
   cmake make g++ pkg-config
   qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
   libgtest-dev libbenchmark-dev dpkg-dev
+  # fuzzing and sanitizer builds (clang's libFuzzer runtime)
+  clang libclang-rt-14-dev
+  # GUI smoke test: drive MeshLab's window, take a screenshot
+  xdotool imagemagick
 )
 
 if [ "$(id -u)" -eq 0 ]; then
