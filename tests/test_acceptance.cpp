@@ -111,25 +111,6 @@ TEST(Acceptance, OpenAneurysmKeepsItsBoundary) {
   EXPECT_GE(o.after.minDeg, o.before.minDeg);
 }
 
-namespace {
-
-/// Angle between the normals of the two faces of every interior edge, in degrees.
-std::map<std::pair<int, int>, double> dihedralAngles(const sodt::MeshD& m) {
-  std::map<std::pair<int, int>, std::vector<sodt::Vec3>> normals;
-  for (const auto& f : m.face) {
-    const sodt::Vec3 n = sodt::doubleAreaVector(f.cP(0), f.cP(1), f.cP(2)).Normalize();
-    for (int j = 0; j < 3; ++j) {
-      const int a = int(f.cV(j) - &m.vert[0]), b = int(f.cV((j + 1) % 3) - &m.vert[0]);
-      normals[{std::min(a, b), std::max(a, b)}].push_back(n);
-    }
-  }
-  std::map<std::pair<int, int>, double> out;
-  for (const auto& kv : normals)
-    if (kv.second.size() == 2) out[kv.first] = sodt::angleBetween(kv.second[0], kv.second[1]) * sodt::kRadToDeg;
-  return out;
-}
-
-}  // namespace
 
 TEST(Acceptance, FandiskAlgorithm2KeepsCornersAndShape) {
   REQUIRE_SHARED("fandisk.ply");
@@ -159,7 +140,7 @@ TEST(Acceptance, NoisyFandiskAlgorithm3RemovesNoiseKeepsCreases) {
   EXPECT_EQ(o.inverted, 0);
   // Creases stay sharp: the edges that are sharp (> 60 deg) in the clean mesh
   // are still sharp, and closer to their clean angle than in the noisy input.
-  const auto dc = dihedralAngles(clean), dn = dihedralAngles(noisy), dm = dihedralAngles(out);
+  const auto dc = sodt_test::dihedralAngles(clean), dn = sodt_test::dihedralAngles(noisy), dm = sodt_test::dihedralAngles(out);
   int sharp = 0, kept = 0;
   double errNoisy = 0, errOut = 0;
   for (const auto& kv : dc) {
@@ -204,9 +185,9 @@ TEST(Acceptance, FandiskAlgorithm2WithFlipsNeverFlipsACrease) {
   EXPECT_LE(o.hausdorffToInput, 0.003);
   for (std::size_t i = 0; i < in.vert.size(); ++i)
     if (cls.cls[i] == sodt::VertexClass::Corner) EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i;
-  const auto after = dihedralAngles(out);
+  const auto after = sodt_test::dihedralAngles(out);
   int creases = 0;
-  for (const auto& kv : dihedralAngles(in)) {
+  for (const auto& kv : sodt_test::dihedralAngles(in)) {
     if (kv.second <= 30) continue;
     ++creases;
     EXPECT_TRUE(after.count(kv.first)) << "crease edge " << kv.first.first << "-" << kv.first.second << " flipped";

@@ -28,18 +28,9 @@ std::set<std::pair<int, int>> edgeSet(const sodt::MeshD& m) {
 
 /// Edges whose two faces' normals differ by more than minDeg.
 std::set<std::pair<int, int>> sharpEdges(const sodt::MeshD& m, double minDeg) {
-  std::map<std::pair<int, int>, std::vector<sodt::Vec3>> nrm;
-  for (const auto& f : m.face) {
-    const sodt::Vec3 n = sodt::doubleAreaVector(f.cP(0), f.cP(1), f.cP(2)).Normalize();
-    for (int j = 0; j < 3; ++j) {
-      const int a = int(f.cV(j) - &m.vert[0]), b = int(f.cV((j + 1) % 3) - &m.vert[0]);
-      nrm[{std::min(a, b), std::max(a, b)}].push_back(n);
-    }
-  }
   std::set<std::pair<int, int>> out;
-  for (const auto& kv : nrm)
-    if (kv.second.size() == 2 && sodt::angleBetween(kv.second[0], kv.second[1]) * sodt::kRadToDeg > minDeg)
-      out.insert(kv.first);
+  for (const auto& kv : sodt_test::dihedralAngles(m))
+    if (kv.second > minDeg) out.insert(kv.first);
   return out;
 }
 

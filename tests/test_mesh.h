@@ -165,4 +165,27 @@ void makeCube(M& m, int n, double jitter = 0.0, unsigned seed = 1) {
   }
 }
 
+/// Angle between the normals of the two faces of every interior edge, in
+/// degrees, keyed by the edge's (smaller, larger) vertex index.
+template <class M>
+std::map<std::pair<int, int>, double> dihedralAngles(const M& m) {
+  std::map<std::pair<int, int>, std::vector<vcg::Point3d>> normals;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    const vcg::Point3d a = vcg::Point3d::Construct(f.cP(0)), b = vcg::Point3d::Construct(f.cP(1)),
+                       c = vcg::Point3d::Construct(f.cP(2));
+    vcg::Point3d n = (b - a) ^ (c - a);
+    n.Normalize();
+    for (int j = 0; j < 3; ++j) {
+      const int u = int(f.cV(j) - &m.vert[0]), v = int(f.cV((j + 1) % 3) - &m.vert[0]);
+      normals[{std::min(u, v), std::max(u, v)}].push_back(n);
+    }
+  }
+  std::map<std::pair<int, int>, double> out;
+  for (const auto& kv : normals)
+    if (kv.second.size() == 2)
+      out[kv.first] = std::atan2((kv.second[0] ^ kv.second[1]).Norm(), kv.second[0] * kv.second[1]) * 180.0 / M_PI;
+  return out;
+}
+
 }  // namespace sodt_test

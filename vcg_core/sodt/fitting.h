@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace sodt {
@@ -21,6 +22,36 @@ struct FittedFrame {
   Vec3 point = Vec3(0, 0, 0);
   Vec3 dir = Vec3(0, 0, 0);
 };
+
+/// Weighted centroid of the points and the unit eigenvector of their weighted
+/// scatter matrix for the smallest (axis 0) or largest (axis 2) eigenvalue,
+/// turned to point along `hint`. ok = false for non-finite results.
+inline FittedFrame principalFit(const std::vector<std::pair<Vec3, double>>& pts, int axis, const Vec3& hint) {
+  FittedFrame f;
+  Vec3 c(0, 0, 0);
+  double ws = 0;
+  for (const auto& pw : pts) {
+    c += pw.first * pw.second;
+    ws += pw.second;
+  }
+  if (!(ws > 0)) return f;
+  c /= ws;
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+  for (const auto& pw : pts) {
+    const Vec3 d = pw.first - c;
+    const Eigen::Vector3d e(d[0], d[1], d[2]);
+    M += pw.second * e * e.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M);  // ascending eigenvalues
+  const Eigen::Vector3d v = es.eigenvectors().col(axis);
+  Vec3 dir(v[0], v[1], v[2]);
+  if (dir * hint < 0) dir = -dir;
+  if (!isFinite(dir) || !isFinite(c) || dir.SquaredNorm() == 0) return f;
+  f.ok = true;
+  f.point = c;
+  f.dir = dir.Normalize();
+  return f;
+}
 
 /// Area-weighted unit normal of every Interior vertex (zero for the others).
 inline std::vector<Vec3> vertexNormals(const RingTopology& topo, const std::vector<Vec3>& pos) {
@@ -60,28 +91,7 @@ inline FittedFrame fitPlane(int i, const RingTopology& topo, const std::vector<V
     if (w > 0) pts.emplace_back(pos[j], w);
   }
   if (pts.size() < 3) return f;
-  Vec3 c(0, 0, 0);
-  double ws = 0;
-  for (const auto& pw : pts) {
-    c += pw.first * pw.second;
-    ws += pw.second;
-  }
-  c /= ws;
-  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-  for (const auto& pw : pts) {
-    const Vec3 d = pw.first - c;
-    const Eigen::Vector3d e(d[0], d[1], d[2]);
-    M += pw.second * e * e.transpose();
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M);
-  const Eigen::Vector3d v = es.eigenvectors().col(0);
-  Vec3 n(v[0], v[1], v[2]);
-  if (n * n0 < 0) n = -n;
-  if (!isFinite(n) || !isFinite(c)) return f;
-  f.ok = true;
-  f.point = c;
-  f.dir = n.Normalize();
-  return f;
+  return principalFit(pts, 0, n0);
 }
 
 /// Least-squares line through vertex i of class Crease and up to two feature
@@ -99,7 +109,7 @@ inline FittedFrame fitCreaseLine(int i, const Vec3& e, const RingTopology& topo,
     const Vec3 d = x - pos[i];
     return (d - e * (d * e)).Norm() / std::abs(along);
   };
-  std::vector<Vec3> pts{pos[i]};
+  std::vector<std::pair<Vec3, double>> pts{{pos[i], 1.0}};
   int sides = 0;
   for (double sign : {1.0, -1.0}) {
     int first = -1;
@@ -113,7 +123,7 @@ inline FittedFrame fitCreaseLine(int i, const Vec3& e, const RingTopology& topo,
     }
     if (first < 0) continue;
     ++sides;
-    pts.push_back(pos[first]);
+    pts.emplace_back(pos[first], 1.0);
     if (topo.kind[first] != VertexKind::Interior) continue;
     const double reach = sign * ((pos[first] - pos[i]) * e);
     int second = -1;
@@ -125,27 +135,10 @@ inline FittedFrame fitCreaseLine(int i, const Vec3& e, const RingTopology& topo,
       const double q = offLine(pos[j], along);
       if (second < 0 || q < best2) second = j, best2 = q;
     }
-    if (second >= 0) pts.push_back(pos[second]);
+    if (second >= 0) pts.emplace_back(pos[second], 1.0);
   }
   if (sides < 2) return f;
-  Vec3 c(0, 0, 0);
-  for (const Vec3& x : pts) c += x;
-  c /= double(pts.size());
-  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-  for (const Vec3& x : pts) {
-    const Vec3 d = x - c;
-    const Eigen::Vector3d v(d[0], d[1], d[2]);
-    M += v * v.transpose();
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M);
-  const Eigen::Vector3d v = es.eigenvectors().col(2);
-  Vec3 dir(v[0], v[1], v[2]);
-  if (dir * e < 0) dir = -dir;
-  if (!isFinite(dir) || !isFinite(c)) return f;
-  f.ok = true;
-  f.point = c;
-  f.dir = dir.Normalize();
-  return f;
+  return principalFit(pts, 2, e);
 }
 
 }  // namespace sodt
