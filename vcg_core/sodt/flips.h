@@ -5,6 +5,7 @@
 
 #include "geometry.h"
 #include "params.h"
+#include "topology.h"
 
 #include <algorithm>
 #include <array>
@@ -14,13 +15,6 @@
 #include <vector>
 
 namespace sodt {
-
-/// Triangles as vertex-index triples, with per-face flags for the flip pass.
-struct FaceList {
-  std::vector<std::array<int, 3>> tri;
-  std::vector<char> live;      ///< false for deleted faces
-  std::vector<char> flippable; ///< the selection allows flipping this face
-};
 
 /// Smallest interior angle of the two triangles, in radians.
 inline double pairMinAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e,

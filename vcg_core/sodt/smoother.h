@@ -149,7 +149,9 @@ struct SodtSmoother {
     }
 
     const std::vector<Vec3> pos0 = pos;
-    FaceList faces = faceList(m, p.selectedOnly);
+    FaceList faces = makeFaceList(m, p.selectedOnly);
+    std::vector<char> vertexDeleted(nv, 0);
+    for (int i = 0; i < nv; ++i) vertexDeleted[i] = m.vert[i].IsD();
     const FaceList faces0 = faces;
     const bool deviationGuard =
         p.guard != Guard::None && p.algorithm != Algorithm::Denoise && p.maxDeviationRel > 0;
@@ -191,8 +193,7 @@ struct SodtSmoother {
         }
         if (flipped > 0) {
           stats.flips += flipped;
-          writeFaces(m, faces);
-          topo = buildRingTopology(m);
+          topo = buildRingTopology(faces, vertexDeleted);
         }
       }
       bool stop = false;
@@ -223,12 +224,11 @@ struct SodtSmoother {
     stats.returnedSweep = stats.iterations;
     if (p.keepBest && bestSweep != stats.iterations) {
       pos = bestPos;
-      if (p.flips) {
-        faces = bestFaces;
-        writeFaces(m, faces);
-      }
+      if (p.flips) faces = bestFaces;
       stats.returnedSweep = bestSweep;
     }
+    // The mesh is written only here, positions and faces together.
+    if (stats.flips > 0) writeFaces(m, faces);
     if (stats.flips > 0) {
       // Flips invalidate any adjacency the caller had computed.
       if (vcg::tri::HasFFAdjacency(m)) vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
@@ -295,25 +295,6 @@ struct SodtSmoother {
     q.p1Deg = tmin[idx];
     q.minDeg = *std::min_element(tmin.begin(), tmin.begin() + idx + 1);
     return q;
-  }
-
-  /// The live faces of m as index triples; with selectedOnly a face may be
-  /// flipped only when it is selected or all its vertices are.
-  static FaceList faceList(const MeshType& m, bool selectedOnly) {
-    FaceList fl;
-    fl.tri.resize(m.face.size());
-    fl.live.assign(m.face.size(), 0);
-    fl.flippable.assign(m.face.size(), 0);
-    for (std::size_t f = 0; f < m.face.size(); ++f) {
-      const auto& F = m.face[f];
-      if (F.IsD()) continue;
-      bool sel = F.IsS();
-      for (int j = 0; j < 3; ++j) fl.tri[f][j] = static_cast<int>(F.cV(j) - &m.vert[0]);
-      if (!sel) sel = F.cV(0)->IsS() && F.cV(1)->IsS() && F.cV(2)->IsS();
-      fl.live[f] = 1;
-      fl.flippable[f] = !selectedOnly || sel;
-    }
-    return fl;
   }
 
   /// Writes the vertex references of the face list back into m.

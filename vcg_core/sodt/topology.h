@@ -6,6 +6,7 @@
 #include <vcg/complex/complex.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -33,27 +34,50 @@ struct RingTopology {
   int ringSize(int v) const { return ringBegin[v + 1] - ringBegin[v]; }
 };
 
-/// Builds the ring topology of m. Deleted faces and faces with a repeated
-/// vertex are ignored, but the vertices of a face with a repeated vertex are
-/// marked NonManifold so that they stay fixed. Needs no vcg adjacency.
+/// Triangles as vertex-index triples (indices into the mesh's vertex vector).
+struct FaceList {
+  std::vector<std::array<int, 3>> tri;
+  std::vector<char> live;       ///< false for deleted faces
+  std::vector<char> flippable;  ///< the selection allows flipping this face
+};
+
+/// The faces of m as index triples; with selectedOnly a face is flippable
+/// only when it is selected or all its vertices are.
 template <class MeshType>
-RingTopology buildRingTopology(const MeshType& m) {
-  const int nv = static_cast<int>(m.vert.size());
+FaceList makeFaceList(const MeshType& m, bool selectedOnly = false) {
+  FaceList fl;
+  fl.tri.resize(m.face.size());
+  fl.live.assign(m.face.size(), 0);
+  fl.flippable.assign(m.face.size(), 0);
+  for (std::size_t f = 0; f < m.face.size(); ++f) {
+    const auto& F = m.face[f];
+    if (F.IsD()) continue;
+    for (int j = 0; j < 3; ++j) fl.tri[f][j] = static_cast<int>(F.cV(j) - &m.vert[0]);
+    const bool sel = F.IsS() || (F.cV(0)->IsS() && F.cV(1)->IsS() && F.cV(2)->IsS());
+    fl.live[f] = 1;
+    fl.flippable[f] = !selectedOnly || sel;
+  }
+  return fl;
+}
+
+/// Builds the ring topology of the faces over nv vertices (deleted[i] marks
+/// deleted vertices). Dead faces and faces with a repeated vertex are
+/// ignored, but the vertices of a face with a repeated vertex are marked
+/// NonManifold so that they stay fixed.
+inline RingTopology buildRingTopology(const FaceList& faces, const std::vector<char>& deleted) {
+  const int nv = static_cast<int>(deleted.size());
   RingTopology topo;
   topo.kind.assign(nv, VertexKind::Isolated);
   for (int i = 0; i < nv; ++i)
-    if (m.vert[i].IsD()) topo.kind[i] = VertexKind::Deleted;
+    if (deleted[i]) topo.kind[i] = VertexKind::Deleted;
 
   // Directed edges (a -> b) opposite to each vertex in its faces: the face
   // (v, a, b) contributes a -> b to v's fan.
   std::vector<int> count(nv + 1, 0);
   std::vector<char> badFace(nv, 0);
-  auto vindex = [&m](const typename MeshType::VertexType* p) {
-    return static_cast<int>(p - &m.vert[0]);
-  };
-  for (const auto& f : m.face) {
-    if (f.IsD()) continue;
-    const int v[3] = {vindex(f.cV(0)), vindex(f.cV(1)), vindex(f.cV(2))};
+  for (std::size_t fi = 0; fi < faces.tri.size(); ++fi) {
+    if (!faces.live[fi]) continue;
+    const int* v = faces.tri[fi].data();
     if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
       for (int j = 0; j < 3; ++j) badFace[v[j]] = 1;
       continue;
@@ -67,10 +91,9 @@ RingTopology buildRingTopology(const MeshType& m) {
   };
   std::vector<FanEdge> fan(count[nv]);
   std::vector<int> fill(count.begin(), count.end() - 1);
-  for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
-    const auto& f = m.face[fi];
-    if (f.IsD()) continue;
-    const int v[3] = {vindex(f.cV(0)), vindex(f.cV(1)), vindex(f.cV(2))};
+  for (std::size_t fi = 0; fi < faces.tri.size(); ++fi) {
+    if (!faces.live[fi]) continue;
+    const int* v = faces.tri[fi].data();
     if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
     for (int j = 0; j < 3; ++j)
       fan[fill[v[j]]++] = {v[(j + 1) % 3], v[(j + 2) % 3], static_cast<int>(fi)};
@@ -143,6 +166,14 @@ RingTopology buildRingTopology(const MeshType& m) {
   }
   topo.ringBegin[nv] = static_cast<int>(topo.ringIdx.size());
   return topo;
+}
+
+/// Builds the ring topology of m (see the FaceList overload). Needs no vcg adjacency.
+template <class MeshType>
+RingTopology buildRingTopology(const MeshType& m) {
+  std::vector<char> deleted(m.vert.size(), 0);
+  for (std::size_t i = 0; i < m.vert.size(); ++i) deleted[i] = m.vert[i].IsD();
+  return buildRingTopology(makeFaceList(m), deleted);
 }
 
 }  // namespace sodt
