@@ -19,6 +19,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <sstream>
 #include <functional>
 #include <limits>
 #include <sys/stat.h>
@@ -282,6 +283,117 @@ void checkPlyHeader(const std::string& file, const std::string& path) {
   }
 }
 
+/// vcglib 2020.09 keeps a face's corners in a fixed buffer with a one-byte
+/// count and trusts the file: a face list with fewer than 3 or more than 255
+/// entries corrupts memory or is silently truncated. Walks the file's
+/// elements (ASCII or binary) and rejects such faces before vcglib reads it.
+void checkPlyFaceLists(const std::string& file, const std::string& path) {
+  std::ifstream in(file, std::ios::binary);
+  struct Prop {
+    bool list = false;
+    int countSize = 0, valueSize = 0;
+    bool countSigned = false;
+    bool isIndex = false;
+  };
+  struct Elem {
+    std::string name;
+    long long count = 0;
+    std::vector<Prop> props;
+  };
+  auto typeSize = [](const std::string& t) -> int {
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+    if (t == "double" || t == "float64") return 8;
+    return 0;
+  };
+  auto isSigned = [](const std::string& t) { return t == "char" || t == "short" || t == "int" || t.rfind("int", 0) == 0; };
+  std::vector<Elem> elems;
+  std::string line, format;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word == "format") {
+      ls >> format;
+    } else if (word == "element") {
+      Elem e;
+      ls >> e.name >> e.count;
+      elems.push_back(e);
+    } else if (word == "property" && !elems.empty()) {
+      Prop pr;
+      std::string type, name;
+      ls >> type;
+      if (type == "list") {
+        std::string ct, vt;
+        ls >> ct >> vt >> name;
+        pr.list = true;
+        pr.countSize = typeSize(ct);
+        pr.countSigned = isSigned(ct);
+        pr.valueSize = typeSize(vt);
+      } else {
+        ls >> name;
+        pr.valueSize = typeSize(type);
+      }
+      pr.isIndex = pr.list && (name == "vertex_indices" || name == "vertex_index");
+      if ((pr.list && (pr.countSize == 0 || pr.valueSize == 0)) || (!pr.list && pr.valueSize == 0)) return;  // vcglib reports it
+      elems.back().props.push_back(pr);
+    } else if (word == "end_header") {
+      break;
+    }
+  }
+  const bool ascii = format == "ascii";
+  const bool bigEndian = format == "binary_big_endian";
+  auto fail = [&path](const std::string& why) { throw InvalidInput(quoted(path) + ": " + why); };
+  auto readCount = [&](const Prop& pr, long long& n) -> bool {
+    if (ascii) {
+      double d;
+      if (!(in >> d)) return false;
+      n = static_cast<long long>(d);
+      return true;
+    }
+    unsigned char b[8] = {0};
+    if (!in.read(reinterpret_cast<char*>(b), pr.countSize)) return false;
+    unsigned long long u = 0;
+    for (int k = 0; k < pr.countSize; ++k) {
+      const int idx = bigEndian ? k : pr.countSize - 1 - k;
+      u = (u << 8) | b[idx];
+    }
+    if (pr.countSigned && pr.countSize < 8 && (u >> (8 * pr.countSize - 1)) & 1u)
+      n = static_cast<long long>(u) - (1LL << (8 * pr.countSize));
+    else
+      n = static_cast<long long>(u);
+    return true;
+  };
+  auto skip = [&](long long values, int size) -> bool {
+    if (ascii) {
+      std::string tok;
+      for (long long k = 0; k < values; ++k)
+        if (!(in >> tok)) return false;
+      return true;
+    }
+    in.seekg(values * size, std::ios::cur);
+    return static_cast<bool>(in);
+  };
+  for (const Elem& e : elems) {
+    const bool isFace = e.name == "face";
+    for (long long i = 0; i < e.count; ++i)
+      for (const Prop& pr : e.props) {
+        if (!pr.list) {
+          if (!skip(1, pr.valueSize)) fail("PLY parse error: the data ends inside element '" + e.name + "'");
+          continue;
+        }
+        long long n = 0;
+        if (!readCount(pr, n)) fail("PLY parse error: the data ends inside element '" + e.name + "'");
+        if (isFace && pr.isIndex && (n < 3 || n > 255))
+          fail("PLY parse error: face " + std::to_string(i) + " has " + std::to_string(n) +
+               " corners; faces need 3 to 255 corners");
+        if (n < 0 || !skip(n, pr.valueSize)) fail("PLY parse error: the data ends inside element '" + e.name + "'");
+      }
+  }
+}
+
 /// A file removed when this goes out of scope.
 struct ScratchFile {
   std::string path;
@@ -337,6 +449,7 @@ void loadPly(const std::string& path, M& m, LoadInfo& info) {
   ScratchFile scratch;
   const std::string file = plyWithShortComments(path, scratch);
   checkPlyHeader(file, path);
+  checkPlyFaceLists(file, path);
   using Importer = vcg::tri::io::ImporterPLY<M>;
   int mask = 0;
   const int err = Importer::Open(m, file.c_str(), mask);

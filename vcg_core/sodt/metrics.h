@@ -80,6 +80,25 @@ void copyToDouble(const MeshType& src, MeshD& dst) {
   vcg::tri::UpdateNormal<MeshD>::PerVertexNormalizedPerFace(dst);
 }
 
+/// Sum of the face areas.
+inline double totalArea(const MeshD& m) {
+  double a = 0;
+  for (const auto& f : m.face)
+    if (!f.IsD()) a += 0.5 * doubleAreaVector(f.cP(0), f.cP(1), f.cP(2)).Norm();
+  return a;
+}
+
+/// A copy of m's vertices without faces: the sampler then measures
+/// distances to the points, which is all a surface without area has.
+inline void pointsOnly(const MeshD& m, MeshD& out) {
+  out.Clear();
+  vcg::tri::Allocator<MeshD>::AddVertices(out, m.vn);
+  int k = 0;
+  for (const auto& v : m.vert)
+    if (!v.IsD()) out.vert[k++].P() = v.cP();
+  vcg::tri::UpdateBounding<MeshD>::Box(out);
+}
+
 /// One-sided distances from samples of `from` (all vertices plus area-uniform
 /// random points with a fixed seed) to the surface of `to`.
 inline std::pair<double, double> oneSidedDistance(MeshD& from, MeshD& to, double upperBound) {
@@ -95,7 +114,7 @@ inline std::pair<double, double> oneSidedDistance(MeshD& from, MeshD& to, double
   else
     SS::VertexUniform(from, hs, kMaxVertexSamples);
   const int faceSamples = std::min(kMaxFaceSamples, std::max(10000, 2 * from.fn));
-  if (from.fn > 0) SS::Montecarlo(from, hs, faceSamples);
+  if (from.fn > 0 && totalArea(from) > 0) SS::Montecarlo(from, hs, faceSamples);  // no area: nothing to sample
   if (hs.n_total_samples == 0) return {std::numeric_limits<double>::infinity(), 0.0};
   return {double(hs.getMaxDist()), double(hs.getMeanDist())};
 }
@@ -251,8 +270,13 @@ DistanceStats surfaceDistance(const MeshA& a, const MeshB& b) {
   vcg::Box3d u = A.bbox;
   u.Add(B.bbox);
   const double bound = 2.0 * u.Diag() + 1.0;
-  const auto ab = detail::oneSidedDistance(A, B, bound);
-  const auto ba = detail::oneSidedDistance(B, A, bound);
+  // A surface without area has no faces to measure against: use its points.
+  MeshD Apts, Bpts;
+  const bool aFlat = !(detail::totalArea(A) > 0), bFlat = !(detail::totalArea(B) > 0);
+  if (aFlat) detail::pointsOnly(A, Apts);
+  if (bFlat) detail::pointsOnly(B, Bpts);
+  const auto ab = detail::oneSidedDistance(A, bFlat ? Bpts : B, bound);
+  const auto ba = detail::oneSidedDistance(B, aFlat ? Apts : A, bound);
   d.maxRel = std::max(ab.first, ba.first) / diag;
   d.meanRel = 0.5 * (ab.second + ba.second) / diag;
   return d;

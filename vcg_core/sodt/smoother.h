@@ -365,6 +365,7 @@ struct SodtSmoother {
     double f = 1.0;
     for (int j = 0; j <= p.maxBacktracks; ++j, f *= 0.5) {
       const Vec3 y = representable(star.center + step * f);
+      if (!isFinite(y)) continue;
       if (y == x) return j == 0 ? -2 : -1;  // shorter steps round to nothing as well
       if (moveFolds(star, y, n)) continue;
       if (p.guard == Guard::Quality && !starKeepsMinAngle(star, y, minAngleCos2Before)) continue;
@@ -471,7 +472,10 @@ struct SodtSmoother {
     if (!pr.ok) return Outcome::Failed;
     const SodtParams& p = c.p;
     if (p.guard == Guard::None) {
+      // Unguarded updates can diverge; a position the mesh cannot hold (too
+      // large for its scalar type) is never written.
       const Vec3 y = representable(pr.target);
+      if (!isFinite(y)) return Outcome::Failed;
       if (y == x) return Outcome::Unchanged;
       x = y;
       return Outcome::Moved;

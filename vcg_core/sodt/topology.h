@@ -106,12 +106,12 @@ inline RingTopology buildRingTopology(const FaceList& faces, const std::vector<c
   for (int i = 0; i < nv; ++i) {
     topo.ringBegin[i] = static_cast<int>(topo.ringIdx.size());
     if (topo.kind[i] == VertexKind::Deleted) continue;
-    const int b = count[i], e = count[i + 1];
-    if (b == e) continue;  // Isolated
-    if (badFace[i]) {
+    if (badFace[i]) {  // in a face with a repeated vertex, whatever else it is in
       topo.kind[i] = VertexKind::NonManifold;
       continue;
     }
+    const int b = count[i], e = count[i + 1];
+    if (b == e) continue;  // Isolated
     edges.assign(fan.begin() + b, fan.begin() + e);
     std::sort(edges.begin(), edges.end());
     const int n = e - b;
