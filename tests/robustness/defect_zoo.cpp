@@ -543,7 +543,6 @@ ZooMesh zeroAreaFacesOnly() {
   ZooMesh z = start("zero_area_faces_only", "no face has area: three collinear triangles, one lone vertex", s);
   z.kind.assign(s.pos.size(), Kind::Boundary);  // each triangle is alone: an open fan
   z.kind.back() = Kind::Isolated;
-  z.cliKnownBug = "sodt::surfaceDistance segfaults when every face has zero area";
   z.plugin = true;
   return z;
 }

@@ -62,10 +62,6 @@ struct ZooMesh {
   bool coreOnly = false;
   /// `sodt smooth` exits 1 with this substring in its one stderr line; empty: exits 0.
   std::string cliError;
-  /// When not empty: a known CLI bug (reported) makes `sodt smooth` fail on
-  /// this mesh; the main CLI test skips it and test_known_bugs.cpp asserts the
-  /// right outcome.
-  std::string cliKnownBug;
   /// Part of the subset run through meshlabserver.
   bool plugin = false;
 

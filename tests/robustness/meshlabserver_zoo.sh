@@ -20,10 +20,9 @@
 #                    vertices as the zoo expects, or exits non-zero, writes
 #                    no output and logs why. Prints a table of what happened.
 #   guard-none-overflow
-#                    KNOWN BUG (reported): the flattened zoo sphere with
-#                    guard "None (paper, literal)": the float CMeshO gets
-#                    +-inf/NaN coordinates (vcg_core/sodt/smoother.h,
-#                    visitVertex, Guard::None). Asserts the right outcome:
+#                    the flattened zoo sphere with guard "None (paper,
+#                    literal)" diverges; regression test that the float
+#                    CMeshO never gets +-inf/NaN coordinates. Asserts:
 #                    exit 0 with a finite output. Fails until fixed.
 # Set SODT_TEST_KEEP=1 to keep the work directory.
 set -u
@@ -174,7 +173,7 @@ case "$MODE" in
     crash="$(crash_reason)"
     [ -z "$crash" ] || fail "meshlabserver $crash"
     [ "$RC" -eq 0 ] || fail "meshlabserver exited with $RC: $(why_failed)"
-    check="$("$TOOL" check flattened "$out")" || fail "KNOWN BUG: guard None wrote a bad mesh: $check"
+    check="$("$TOOL" check flattened "$out")" || fail "guard None wrote a bad mesh: $check"
     echo "PASS: $check"
     ;;
 esac

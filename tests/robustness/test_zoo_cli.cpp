@@ -93,7 +93,6 @@ class CliZoo : public testing::TestWithParam<std::string> {};
 
 TEST_P(CliZoo, SmoothsOrFailsCleanly) {
   const ZooMesh z = sodt_zoo::zooMesh(GetParam());
-  if (!z.cliKnownBug.empty()) GTEST_SKIP() << "known bug, see test_known_bugs.cpp: " << z.cliKnownBug;
   TempDir dir;
   const std::string plyIn = dir / "in.ply", asciiIn = dir / "in_ascii.ply", offIn = dir / "in.off";
   sodt_zoo::writePly(plyIn, z.soup, sodt_zoo::PlyEncoding::BinaryLE, true);
