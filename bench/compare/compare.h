@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// S-ODT against the numerical ODT of Eq. 3, a Laplacian reference and MeshLab
+// 2020.09's built-in smoothers (run by meshlabserver from a private prefix):
+// the runs, the measures, the Markdown report and the SVG figures of
+// sodt_compare and of the comparison tests. This header has no vcg include, so
+// the report code and the tests compile fast; the runs live in compare.cpp.
+#pragma once
+
+#include <sodt/params.h>
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sodtcmp {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Where a method runs.
+enum class Kind {
+  InProcess,  ///< sodt::SodtSmoother<sodt::MeshD> in this process (time: Apply alone)
+  Plugin,     ///< the freshly built S-ODT plugin in meshlabserver (time: the whole server run)
+  Builtin,    ///< a filter shipped with MeshLab 2020.09, in meshlabserver (time: the whole server run)
+};
+
+/// One row of the comparison.
+struct Method {
+  std::string id;     ///< short key, used in file names and on the command line
+  std::string label;  ///< table text
+  Kind kind = Kind::InProcess;
+  sodt::Algorithm algorithm = sodt::Algorithm::Basic;  ///< InProcess and Plugin
+  std::string filter;  ///< MeshLab filter name (Builtin, Plugin)
+  /// Builtin: moves vertices only, same connectivity (a smoother in the sense
+  /// of the tests); false for edge flipping and remeshing.
+  bool smoother = true;
+  std::string colour;  ///< figure colour
+};
+
+/// Every method, in table order.
+const std::vector<Method>& allMethods();
+/// The method with this id, or nullptr.
+const Method* findMethod(const std::string& id);
+
+/// One parameter of a MeshLab filter as written into an .mlx script.
+struct MlxParam {
+  std::string name, type, value;
+  std::vector<std::string> enumValues;  ///< RichEnum
+  std::string min, max;                 ///< RichAbsPerc
+  std::string note;                     ///< why the value differs from MeshLab's default (empty: default)
+};
+
+/// Every parameter of a built-in filter, with exact names and types
+/// (MeshLab 2020.09, initParameterSet of filter_unsharp, filter_trioptimize
+/// and filter_meshing), MeshLab's defaults on a mesh without selection, and
+/// the step count set to `iterations` where the filter has one. bboxDiag
+/// scales the absolute-or-percent defaults (1% of the diagonal); meanEdge is
+/// the target edge length of the second remeshing row.
+std::vector<MlxParam> builtinParams(const Method& m, int iterations, double bboxDiag, double meanEdge);
+/// The .mlx script of one filter with these parameters.
+std::string mlxScript(const std::string& filter, const std::vector<MlxParam>& params);
+/// The shipped S-ODT example script (every parameter of the plugin) with its
+/// iterations set; throws std::runtime_error when it has no iterations parameter.
+std::string pluginScript(const std::string& shippedScript, int iterations);
+
+/// Quality and distance measures of one mesh.
+struct Metrics {
+  bool ok = false;
+  std::string error;  ///< why ok is false
+  long long vertices = 0, faces = 0;
+  double minDeg = kNaN, maxDeg = kNaN;
+  double fracBelow30 = kNaN;  ///< fraction of corner angles below 30 degrees
+  double p1TriMinDeg = kNaN;  ///< 1st percentile of the per-triangle smallest angle
+  std::vector<long long> histogram;  ///< 180 one-degree bins of corner angles
+  double hausInput = kNaN, meanInput = kNaN;  ///< symmetric Hausdorff / mean distance to the input, / input diagonal
+  double hausRef = kNaN, meanRef = kNaN;      ///< the same to the reference, / reference diagonal
+  bool closed = false;                         ///< closed and consistently oriented
+  double volume = kNaN;                        ///< enclosed volume when closed
+  double volumeChange = kNaN;                  ///< (volume - input volume) / input volume, both closed
+  long long inverted = -2;  ///< faces turned > 90 deg against the input; -1: other connectivity; -2: not measured
+  double seconds = kNaN;    ///< see Kind
+  std::string detail;       ///< one line (run counters, server status)
+};
+
+/// Min/max angle after each sweep; index 0 is the input.
+struct Curve {
+  std::vector<double> minDeg, maxDeg;
+  std::vector<double> seconds;  ///< time of the run that produced the state (cumulative)
+};
+
+/// One input mesh and what to compare it against.
+struct MeshJob {
+  std::string path;
+  std::string reference;  ///< clean mesh for the reference distance (optional)
+  std::string name;       ///< file name without folder and extension
+  sodt::Algorithm variant = sodt::Algorithm::Basic;  ///< headline S-ODT variant of this mesh
+  std::string paperModel;  ///< the model of the paper's Tables 3-4 this mesh stands for (optional)
+};
+
+struct Row {
+  Method method;
+  Metrics m;
+};
+
+/// Everything measured on one input mesh.
+struct MeshReport {
+  MeshJob job;
+  Metrics input;  ///< the input itself (distances to the reference when given)
+  std::vector<Row> rows;
+  /// States of the table's run after k = 0..N sweeps: a k-sweep run from the
+  /// input for every k (empty when curves are off).
+  Curve sodtCurve, odtCurve;
+  /// One sweep per call, each call starting from the previous result (its
+  /// deviation bound then refers to the previous sweep, not to the input).
+  Curve sodtSteps, odtSteps;
+  double noopSeconds = kNaN;  ///< meshlabserver loading and saving the mesh with no filter
+  std::vector<std::string> notes;
+  /// The row of a method, or nullptr.
+  const Row* row(const std::string& id) const;
+};
+
+/// How meshlabserver is found and run.
+struct MeshLabConfig {
+  /// A meshlabserver binary (copied into a private prefix with the built
+  /// plugin) or a prefix folder P that already has P/bin/meshlabserver and its
+  /// plugins (used as it is). Empty: /usr/bin/meshlabserver.
+  std::string server;
+  std::string plugin;        ///< the built libfilter_sodt.so (empty: no plugin row)
+  std::string libDir;        ///< folder of libmeshlab-common.so and plugins/
+  std::string pluginScript;  ///< shipped sodt_smoothing.mlx, the template of the plugin's script
+  int timeoutSec = 900;      ///< per meshlabserver run
+};
+
+/// Compile-time defaults of the build (the plugin's path, MeshLab's folders).
+MeshLabConfig defaultMeshLabConfig();
+
+/// A private MeshLab prefix and an Xvfb display, for as long as it lives.
+class MeshLabServer {
+ public:
+  MeshLabServer();
+  ~MeshLabServer();
+  MeshLabServer(const MeshLabServer&) = delete;
+  MeshLabServer& operator=(const MeshLabServer&) = delete;
+
+  /// Assembles the prefix under workDir and starts a virtual X server.
+  /// Returns false with a message when meshlabserver or Xvfb is unusable.
+  bool start(const MeshLabConfig& cfg, const std::string& workDir, std::string& error);
+  /// The configuration given to start().
+  const MeshLabConfig& config() const;
+  /// True when the S-ODT plugin is in the prefix.
+  bool hasPlugin() const;
+  /// True when `meshlabserver -d` (run by start()) lists a filter of this exact name.
+  bool listsFilter(const std::string& name) const;
+  /// Prefix folder, display and what was linked, one line.
+  std::string describe() const;
+
+  struct Result {
+    int status = -1;  ///< exit status; 124 timeout; 128+n killed by signal n
+    double seconds = kNaN;
+  };
+  /// meshlabserver -i in -o out [-s script], output and errors into logPath.
+  Result run(const std::string& in, const std::string& out, const std::string& script,
+             const std::string& logPath) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// What to run and where.
+struct Options {
+  int iterations = 20;
+  std::string workDir;                ///< meshes, scripts and logs
+  std::vector<std::string> methods;   ///< method ids; empty: all
+  bool curves = true;                 ///< the one-sweep-at-a-time runs of S-ODT basic and ODT
+  bool quiet = false;                 ///< no progress on stderr
+  /// In-process methods faster than 1 s are run again, up to this many runs
+  /// in all, and the median time is reported (the first run's mesh is measured).
+  int timingRuns = 5;
+};
+
+/// Runs every selected method on the job's mesh and measures the results.
+/// ml may be null (MeshLab rows are then skipped with a note). Throws
+/// std::runtime_error when the input cannot be read.
+MeshReport compareMesh(const MeshJob& job, const Options& opt, const MeshLabServer* ml);
+
+/// The paper's Table 3 (min angle) and Table 4 (time) row of one model.
+struct PaperRow {
+  const char* model;
+  double originalMin, oursMin;
+  const char* alg;
+  double ohtakeMin;
+  int vertices;
+  double oursSeconds, ohtakeSeconds, sunSeconds;
+};
+/// The ten rows of the paper's Tables 3-4, in its order.
+const std::vector<PaperRow>& paperTables();
+const PaperRow* findPaperRow(const std::string& model);
+
+/// docs/RESULTS.md-style report of all meshes. commandLine is shown as the
+/// command that produced it; figDir is the figures' folder relative to the report.
+std::string markdownReport(const std::vector<MeshReport>& reports, const Options& opt,
+                           const std::string& commandLine, const std::string& meshlabLine,
+                           const std::string& figDir);
+
+/// SVG figures (written directly, no plotting dependency).
+std::string histogramSvg(const MeshReport& r);    ///< input vs output angle histogram per method
+std::string convergenceSvg(const MeshReport& r);  ///< min/max angle per sweep, S-ODT basic and ODT
+std::string odtSummarySvg(const std::vector<MeshReport>& reports, int iterations);  ///< time and min angle
+
+/// File names of the figures of one mesh (inside the figures folder).
+std::string histogramFile(const MeshReport& r);
+std::string convergenceFile(const MeshReport& r);
+inline const char* odtSummaryFile() { return "odt_vs_sodt.svg"; }
+
+// Small POSIX helpers (no std::filesystem in gnu++14).
+bool makeDirs(const std::string& path);
+bool isDirectory(const std::string& path);
+bool isFile(const std::string& path);
+void writeFile(const std::string& path, const std::string& text);  ///< throws std::runtime_error
+std::string readFile(const std::string& path);                      ///< throws std::runtime_error
+std::string baseName(const std::string& path);  ///< file name without folder and extension
+std::string formatG(double v, int digits);      ///< %.{digits}g, "n/a" for NaN
+
+}  // namespace sodtcmp
