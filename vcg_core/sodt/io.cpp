@@ -31,6 +31,9 @@ namespace {
 
 std::string quoted(const std::string& path) { return "'" + path + "'"; }
 
+/// Largest coordinate magnitude accepted on input.
+constexpr double kMaxCoordinate = 1e150;
+
 std::string lowerExtension(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
   const std::size_t dot = path.find_last_of('.');
@@ -283,16 +286,21 @@ void checkPlyHeader(const std::string& file, const std::string& path) {
   }
 }
 
-/// vcglib 2020.09 keeps a face's corners in a fixed buffer with a one-byte
-/// count and trusts the file: a face list with fewer than 3 or more than 255
-/// entries corrupts memory or is silently truncated. Walks the file's
-/// elements (ASCII or binary) and rejects such faces before vcglib reads it.
-void checkPlyFaceLists(const std::string& file, const std::string& path) {
+/// Validates what vcglib 2020.09's PLY reader trusts blindly, before it reads
+/// the file: header lines it cannot tokenize (an empty line, an element
+/// without a count) crash it; a face list type it has no descriptor for, or a
+/// face element without a vertex index list, leaves corners uninitialised;
+/// a face with fewer than 3 or more than 255 corners overflows or truncates its
+/// fixed corner buffer; it range-checks only some corners of polygons. Walks
+/// the whole body (ASCII or binary) and throws InvalidInput naming the first
+/// problem.
+void checkPlyStructure(const std::string& file, const std::string& path) {
   std::ifstream in(file, std::ios::binary);
+  auto fail = [&path](const std::string& why) { throw InvalidInput(quoted(path) + ": PLY parse error: " + why); };
   struct Prop {
     bool list = false;
+    std::string countType, valueType;
     int countSize = 0, valueSize = 0;
-    bool countSigned = false;
     bool isIndex = false;
   };
   struct Elem {
@@ -307,89 +315,160 @@ void checkPlyFaceLists(const std::string& file, const std::string& path) {
     if (t == "double" || t == "float64") return 8;
     return 0;
   };
-  auto isSigned = [](const std::string& t) { return t == "char" || t == "short" || t == "int" || t.rfind("int", 0) == 0; };
+  auto isSigned = [](const std::string& t) {
+    return t == "char" || t == "short" || t == "int" || t == "int8" || t == "int16" || t == "int32";
+  };
   std::vector<Elem> elems;
   std::string line, format;
-  while (std::getline(in, line)) {
+  bool ended = false;
+  int lineNo = 0;
+  while (!ended && std::getline(in, line)) {
+    ++lineNo;
+    const std::size_t nul = line.find('\0');
+    if (nul != std::string::npos) line.resize(nul);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream ls(line);
-    std::string word;
-    ls >> word;
-    if (word == "format") {
-      ls >> format;
+    std::vector<std::string> tok;
+    for (std::string w; ls >> w;) tok.push_back(w);
+    if (tok.empty()) fail("empty line " + std::to_string(lineNo) + " in the header");
+    const std::string& word = tok[0];
+    if (lineNo == 1) {
+      if (word != "ply") fail("the file does not start with 'ply'");
+    } else if (word == "format") {
+      if (tok.size() < 2) fail("'format' without a value");
+      format = tok[1];
     } else if (word == "element") {
+      if (tok.size() < 3) fail("'element' line " + std::to_string(lineNo) + " needs a name and a count");
       Elem e;
-      ls >> e.name >> e.count;
+      e.name = tok[1];
+      char* end = nullptr;
+      const long long n = std::strtoll(tok[2].c_str(), &end, 10);
+      if (end == tok[2].c_str() || *end != '\0' || n < 0) fail("element '" + e.name + "' has a bad count");
+      e.count = n;
       elems.push_back(e);
-    } else if (word == "property" && !elems.empty()) {
+    } else if (word == "property") {
+      if (elems.empty()) fail("a property before any element");
       Prop pr;
-      std::string type, name;
-      ls >> type;
-      if (type == "list") {
-        std::string ct, vt;
-        ls >> ct >> vt >> name;
+      std::string name;
+      if (tok.size() >= 2 && tok[1] == "list") {
+        if (tok.size() < 5) fail("incomplete list property on line " + std::to_string(lineNo));
         pr.list = true;
-        pr.countSize = typeSize(ct);
-        pr.countSigned = isSigned(ct);
-        pr.valueSize = typeSize(vt);
+        pr.countType = tok[2];
+        pr.valueType = tok[3];
+        name = tok[4];
+        pr.countSize = typeSize(pr.countType);
+        pr.valueSize = typeSize(pr.valueType);
       } else {
-        ls >> name;
-        pr.valueSize = typeSize(type);
+        if (tok.size() < 3) fail("incomplete property on line " + std::to_string(lineNo));
+        pr.valueType = tok[1];
+        name = tok[2];
+        pr.valueSize = typeSize(pr.valueType);
       }
+      if ((pr.list && pr.countSize == 0) || pr.valueSize == 0)
+        fail("unknown property type on line " + std::to_string(lineNo));
       pr.isIndex = pr.list && (name == "vertex_indices" || name == "vertex_index");
-      if ((pr.list && (pr.countSize == 0 || pr.valueSize == 0)) || (!pr.list && pr.valueSize == 0)) return;  // vcglib reports it
       elems.back().props.push_back(pr);
     } else if (word == "end_header") {
-      break;
+      ended = true;
     }
   }
+  if (!ended) fail("the header has no 'end_header'");
+
+  long long vertices = 0;
+  for (const Elem& e : elems)
+    if (e.name == "vertex") vertices = e.count;
+  for (const Elem& e : elems) {
+    if (e.name != "face" || e.count == 0) continue;
+    int lists = 0;
+    for (const Prop& pr : e.props) {
+      if (!pr.isIndex) continue;
+      ++lists;
+      // The (count, index) type pairs vcglib's importer has descriptors for.
+      const std::string& c = pr.countType;
+      const std::string& v = pr.valueType;
+      const bool countOk = c == "uchar" || c == "char" || c == "int" || c == "uint8" || c == "int8" || c == "int32";
+      const bool indexOk = v == "int" || v == "uint" || v == "int32" || v == "uint32" ||
+                           (v == "short" && c != "int" && c != "int32");
+      if (!countOk || !indexOk)
+        fail("face lists of type '" + c + " " + v + "' are not supported (use 'uchar int')");
+    }
+    if (lists != 1) fail("the face element needs exactly one 'vertex_indices' list");
+  }
+
   const bool ascii = format == "ascii";
   const bool bigEndian = format == "binary_big_endian";
-  auto fail = [&path](const std::string& why) { throw InvalidInput(quoted(path) + ": " + why); };
-  auto readCount = [&](const Prop& pr, long long& n) -> bool {
+  if (!ascii && !bigEndian && format != "binary_little_endian") fail("unknown format '" + format + "'");
+  auto truncated = [&](const Elem& e) { fail("the data ends inside element '" + e.name + "'"); };
+  // Reads one integer of the given PLY type; false at the end of the data.
+  auto readInt = [&](const std::string& type, int size, long long& out) -> bool {
     if (ascii) {
-      double d;
-      if (!(in >> d)) return false;
-      n = static_cast<long long>(d);
+      std::string t;
+      if (!(in >> t)) return false;
+      char* end = nullptr;
+      const double d = std::strtod(t.c_str(), &end);
+      if (end == t.c_str() || !std::isfinite(d) || std::abs(d) > 4e9) {
+        out = -1;  // not a usable count or index
+        return true;
+      }
+      out = static_cast<long long>(d);
       return true;
     }
     unsigned char b[8] = {0};
-    if (!in.read(reinterpret_cast<char*>(b), pr.countSize)) return false;
+    if (!in.read(reinterpret_cast<char*>(b), size)) return false;
     unsigned long long u = 0;
-    for (int k = 0; k < pr.countSize; ++k) {
-      const int idx = bigEndian ? k : pr.countSize - 1 - k;
-      u = (u << 8) | b[idx];
-    }
-    if (pr.countSigned && pr.countSize < 8 && (u >> (8 * pr.countSize - 1)) & 1u)
-      n = static_cast<long long>(u) - (1LL << (8 * pr.countSize));
+    for (int k = 0; k < size; ++k) u = (u << 8) | b[bigEndian ? k : size - 1 - k];
+    if (isSigned(type) && size < 8 && ((u >> (8 * size - 1)) & 1u))
+      out = static_cast<long long>(u) - (1LL << (8 * size));
     else
-      n = static_cast<long long>(u);
+      out = static_cast<long long>(u);
     return true;
   };
   auto skip = [&](long long values, int size) -> bool {
     if (ascii) {
-      std::string tok;
+      std::string t;
       for (long long k = 0; k < values; ++k)
-        if (!(in >> tok)) return false;
+        if (!(in >> t)) return false;
       return true;
     }
     in.seekg(values * size, std::ios::cur);
-    return static_cast<bool>(in);
+    return !in.fail();
   };
+  // Element counts the file cannot hold (each needs at least a byte per
+  // property): refuse them before walking, so a huge count costs nothing.
+  {
+    const long long size = fileSize(file);
+    long long need = 0;
+    for (const Elem& e : elems) {
+      need += e.count * static_cast<long long>(std::max<std::size_t>(1, e.props.size()));
+      if (e.count > size || need > size)
+        fail("the header declares " + std::to_string(e.count) + " '" + e.name +
+             "' elements, more than the file can hold");
+    }
+  }
   for (const Elem& e : elems) {
     const bool isFace = e.name == "face";
+    if (e.props.empty()) continue;
     for (long long i = 0; i < e.count; ++i)
       for (const Prop& pr : e.props) {
         if (!pr.list) {
-          if (!skip(1, pr.valueSize)) fail("PLY parse error: the data ends inside element '" + e.name + "'");
+          if (!skip(1, pr.valueSize)) truncated(e);
           continue;
         }
         long long n = 0;
-        if (!readCount(pr, n)) fail("PLY parse error: the data ends inside element '" + e.name + "'");
-        if (isFace && pr.isIndex && (n < 3 || n > 255))
-          fail("PLY parse error: face " + std::to_string(i) + " has " + std::to_string(n) +
-               " corners; faces need 3 to 255 corners");
-        if (n < 0 || !skip(n, pr.valueSize)) fail("PLY parse error: the data ends inside element '" + e.name + "'");
+        if (!readInt(pr.countType, pr.countSize, n)) truncated(e);
+        if (isFace && pr.isIndex) {
+          if (n < 3 || n > 255)
+            fail("face " + std::to_string(i) + " has " + (n < 0 ? std::string("an invalid number of") : std::to_string(n)) +
+                 " corners; faces need 3 to 255 corners");
+          for (long long k = 0; k < n; ++k) {
+            long long idx = 0;
+            if (!readInt(pr.valueType, pr.valueSize, idx)) truncated(e);
+            if (idx < 0 || idx >= vertices)
+              fail("face " + std::to_string(i) + " has a vertex index out of range");
+          }
+          continue;
+        }
+        if (n < 0 || !skip(n, pr.valueSize)) truncated(e);
       }
   }
 }
@@ -448,8 +527,8 @@ template <class M>
 void loadPly(const std::string& path, M& m, LoadInfo& info) {
   ScratchFile scratch;
   const std::string file = plyWithShortComments(path, scratch);
+  checkPlyStructure(file, path);  // first: vcglib's own header reader crashes on some headers
   checkPlyHeader(file, path);
-  checkPlyFaceLists(file, path);
   using Importer = vcg::tri::io::ImporterPLY<M>;
   int mask = 0;
   const int err = Importer::Open(m, file.c_str(), mask);
@@ -469,10 +548,14 @@ void loadPly(const std::string& path, M& m, LoadInfo& info) {
   if (mask & vcg::tri::io::Mask::IOM_VERTFLAGS) {
     // Keep the selection only: other bits (deleted, visited...) are run state.
     for (auto& v : m.vert) v.Flags() &= VT::SELECTED;
+    m.vn = static_cast<int>(m.vert.size());  // a stored "deleted" bit no longer hides a vertex
     info.vertexSelection = true;
   }
   if (mask & vcg::tri::io::Mask::IOM_FACEFLAGS)
+  {
     for (auto& f : m.face) f.Flags() &= (FT::SELECTED | FT::FAUX0 | FT::FAUX1 | FT::FAUX2);
+    m.fn = static_cast<int>(m.face.size());
+  }
   info.vertexQuality = (mask & vcg::tri::io::Mask::IOM_VERTQUALITY) != 0;
   info.vertexColor = (mask & vcg::tri::io::Mask::IOM_VERTCOLOR) != 0;
   info.polygons = (mask & vcg::tri::io::Mask::IOM_BITPOLYGONAL) != 0;
@@ -504,6 +587,12 @@ void loadMeshImpl(const std::string& path, M& m, LoadInfo* infoOut) {
     if (!std::isfinite(double(p[0])) || !std::isfinite(double(p[1])) || !std::isfinite(double(p[2]))) {
       m.Clear();
       throw InvalidInput(quoted(path) + ": vertex " + std::to_string(i) + " has a non-finite coordinate");
+    }
+    // Squared lengths of larger coordinates overflow double arithmetic.
+    if (std::abs(double(p[0])) > kMaxCoordinate || std::abs(double(p[1])) > kMaxCoordinate ||
+        std::abs(double(p[2])) > kMaxCoordinate) {
+      m.Clear();
+      throw InvalidInput(quoted(path) + ": vertex " + std::to_string(i) + " has a coordinate larger than 1e150");
     }
     if (m.vert[i].IsS()) ++info.selectedVertices;
   }

@@ -57,10 +57,20 @@ Vec3 toVec3(const typename MeshType::CoordType& c) {
 template <class MeshType>
 void copyToDouble(const MeshType& src, MeshD& dst) {
   dst.Clear();
+  // Only vertices of live faces are surface points (when there are faces):
+  // an unreferenced vertex far from a tiny surface would also wreck the
+  // sampling grids.
+  std::vector<char> used(src.vert.size(), 0);
+  bool anyFace = false;
+  for (const auto& f : src.face)
+    if (!f.IsD()) {
+      anyFace = true;
+      for (int j = 0; j < 3; ++j) used[f.cV(j) - &src.vert[0]] = 1;
+    }
   std::vector<int> remap(src.vert.size(), -1);
   int nv = 0;
   for (std::size_t i = 0; i < src.vert.size(); ++i)
-    if (!src.vert[i].IsD()) remap[i] = nv++;
+    if (!src.vert[i].IsD() && (used[i] || !anyFace)) remap[i] = nv++;
   auto vi = vcg::tri::Allocator<MeshD>::AddVertices(dst, nv);
   for (std::size_t i = 0; i < src.vert.size(); ++i)
     if (remap[i] >= 0) dst.vert[remap[i]].P() = toVec3<MeshType>(src.vert[i].cP());
@@ -139,6 +149,7 @@ AngleStats computeAngleStats(const MeshType& m) {
     const double a[3] = {a0, a1, a2};
     double tmin = 180;
     for (double x : a) {
+      if (!std::isfinite(x)) x = 0;  // a triangle too large for double arithmetic counts as degenerate
       lo = std::min(lo, x);
       hi = std::max(hi, x);
       tmin = std::min(tmin, x);
@@ -242,7 +253,7 @@ DistanceStats surfaceDistance(const MeshA& a, const MeshB& b) {
   detail::copyToDouble(a, A);
   detail::copyToDouble(b, B);
   const double diag = B.bbox.Diag();
-  if (A.fn == 0 || B.fn == 0 || !(diag > 0)) {
+  if (A.fn == 0 || B.fn == 0 || !(diag > 0) || !std::isfinite(diag) || !std::isfinite(A.bbox.Diag())) {
     d.maxRel = d.meanRel = std::numeric_limits<double>::infinity();
     return d;
   }
