@@ -439,8 +439,9 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
     const long long size = fileSize(file);
     long long need = 0;
     for (const Elem& e : elems) {
-      need += e.count * static_cast<long long>(std::max<std::size_t>(1, e.props.size()));
-      if (e.count > size || need > size)
+      const bool tooMany = e.count > size;  // checked first: the product below must not overflow
+      if (!tooMany) need += e.count * static_cast<long long>(std::max<std::size_t>(1, e.props.size()));
+      if (tooMany || need > size)
         fail("the header declares " + std::to_string(e.count) + " '" + e.name +
              "' elements, more than the file can hold");
     }
