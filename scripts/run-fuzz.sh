@@ -89,8 +89,8 @@ if [ "$SECONDS_TO_RUN" -gt 0 ]; then
   after="$(ls -1 "$ARTIFACTS" | grep -E '^(crash|leak|timeout|oom|slow-unit)-' | sort || true)"
   new="$(comm -13 <(echo "$before") <(echo "$after") | sed '/^$/d' | grep -v '^slow-unit-' || true)"
   # Final stats (absent after a crash); in fork mode the last progress line.
-  execs="$( (grep -Eo 'stat::number_of_executed_units: [0-9]+' "$BUILD/fuzz.log" || true) | awk '{s+=$2} END{print s+0}')"
-  rate="$( (grep -Eo 'stat::average_exec_per_sec: [0-9]+' "$BUILD/fuzz.log" || true) | awk '{s+=$2} END{print s+0}')"
+  execs="$( (grep -Eo 'stat::number_of_executed_units: +[0-9]+' "$BUILD/fuzz.log" || true) | awk '{s+=$2} END{print s+0}')"
+  rate="$( (grep -Eo 'stat::average_exec_per_sec: +[0-9]+' "$BUILD/fuzz.log" || true) | awk '{s+=$2} END{print s+0}')"
   if [ "$execs" = 0 ]; then
     last="$( (grep -E '^#[0-9]+' "$BUILD/fuzz.log" || true) | tail -n 1)"
     execs="$(echo "$last" | sed -nE 's/^#([0-9]+).*/\1/p')"
