@@ -153,11 +153,24 @@ TEST(Feature, DeviationGuardBoundsTheDistanceToTheInput) {
   sodt::SodtParams p;
   p.maxDeviationRel = 0.001;
   sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  vcg::tri::UpdateBounding<sodt::MeshD>::Box(ref);
+  const double diag = ref.bbox.Diag();
+  // The guard checks the vertices and the edge midpoints of the output
+  // against the input: the sampled distance from the output to the input
+  // stays of the order of the bound (face interiors are not checked, and on
+  // these bent faces they end up to about twice as far).
+  const double toInput = sodt::detail::oneSidedDistance(m, ref, diag).first / diag;
   const double guarded = sodt::hausdorffRel(m, ref);
   sodt::MeshD free;
   vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(free, ref);
   p.maxDeviationRel = 0;
   sodt::SodtSmoother<sodt::MeshD>::Apply(free, p);
-  EXPECT_LT(guarded, 0.002);
-  EXPECT_GT(sodt::hausdorffRel(free, ref), guarded);
+  const double unguarded = sodt::hausdorffRel(free, ref);
+  std::printf("bent cube: output->input %.5f, Hausdorff %.5f guarded, %.5f unguarded (of the diagonal)\n", toInput,
+              guarded, unguarded);
+  EXPECT_LT(toInput, 0.0025);
+  // The other direction (input points the output no longer covers, on chords
+  // of the bent faces) is not bounded by the guard, but stays small.
+  EXPECT_LT(guarded, 0.0025);
+  EXPECT_GT(unguarded, 10 * guarded);
 }

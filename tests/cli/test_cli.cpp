@@ -1072,26 +1072,27 @@ TEST_F(CliTest, KeepBestFallsBackWhenThePaperUpdateDegrades) {
   const std::string blobs = std::string(SODT_MESH_DIR) + "/blobs_mc.ply";
   if (!exists(blobs)) GTEST_SKIP() << blobs << " is missing (generated into meshes/)";
   const std::string out = dir_ / "out.ply", report = dir_ / "r.json";
-  // The literal paper update (no guard) degrades this marching-cubes mesh...
-  RunResult r = runSodt({"smooth", blobs, out, "--guard", "none", "--iterations", "20", "--report", report,
+  // The literal paper update (no guard) wrecks this marching-cubes mesh within
+  // 50 sweeps (its minimum angle ends near 0)...
+  RunResult r = runSodt({"smooth", blobs, out, "--guard", "none", "--iterations", "50", "--report", report,
                          "--quiet"},
                         dir_);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   std::string json = readFile(report);
   EXPECT_LT(jsonNumber(json, "min_angle_after"), jsonNumber(json, "min_angle_before")) << json;
-  EXPECT_EQ(jsonNumber(json, "returned_sweep"), 20);
+  EXPECT_EQ(jsonNumber(json, "returned_sweep"), 50);
 
   // ... and --keep-best returns the best state seen instead.
-  r = runSodt({"smooth", blobs, out, "--keep-best", "--guard", "none", "--iterations", "20", "--report", report},
+  r = runSodt({"smooth", blobs, out, "--keep-best", "--guard", "none", "--iterations", "50", "--report", report},
               dir_);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   json = readFile(report);
   const double lo0 = jsonNumber(json, "min_angle_before"), lo1 = jsonNumber(json, "min_angle_after");
   EXPECT_GE(lo1, lo0) << json;
-  EXPECT_EQ(jsonNumber(json, "sweeps"), 20) << "keep-best alone runs every sweep";
+  EXPECT_EQ(jsonNumber(json, "sweeps"), 50) << "keep-best alone runs every sweep";
   const double returned = jsonNumber(json, "returned_sweep");
   EXPECT_GE(returned, 0);
-  EXPECT_LT(returned, 20) << "the last sweep is not the best here";
+  EXPECT_LT(returned, 50) << "the last sweep is not the best here";
   EXPECT_NE(json.find("\"keep_best\": true"), std::string::npos) << json;
   EXPECT_NE(r.out.find("keep best on"), std::string::npos) << r.out;
   // OUT is that state.

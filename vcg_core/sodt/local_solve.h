@@ -20,12 +20,10 @@ struct Star {
   /// for a triangle that was degenerate there); the fold guard keeps every
   /// triangle within 90 degrees of these so that no face ends up inverted.
   std::vector<Vec3> refNormal;
-  /// Optional input surface around the vertex (the input faces of its one-
-  /// and two-ring, as vertex triples), for the deviation guard.
-  std::vector<Vec3> refPatch;
 
   std::size_t size() const { return ring.size(); }
-  const Vec3& at(std::size_t k) const { return ring[k % ring.size()]; }
+  /// ring[k] for k in [0, 2 size()): the cyclic successor of the last entry is the first.
+  const Vec3& at(std::size_t k) const { return ring[k < ring.size() ? k : k - ring.size()]; }
 };
 
 /// Result of the local solve.
@@ -228,50 +226,48 @@ inline bool starKeepsMinAngle(const Star& st, const Vec3& p, double cos2Limit) {
   return true;
 }
 
+/// Per-triangle orientation references of the fold test for one star: the
+/// current area vector of each triangle, or the plane normal n for a
+/// triangle that is degenerate now. Computed once per vertex visit and
+/// shared by every step length tried.
+inline void foldReferences(const Star& st, const Vec3& n, std::vector<Vec3>& cur) {
+  constexpr double kCollapse = 1e-12;  // |sin| of the smallest admissible angle, roughly
+  cur.resize(st.size());
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const Vec3& a = st.at(k);
+    const Vec3& b = st.at(k + 1);
+    const Vec3 now = doubleAreaVector(st.center, a, b);
+    const double l2now = std::max({(a - st.center).SquaredNorm(), (b - st.center).SquaredNorm(),
+                                   (b - a).SquaredNorm()});
+    cur[k] = now.Norm() > kCollapse * l2now ? now : n;
+  }
+}
+
+/// moveFolds with the references of foldReferences precomputed.
+inline bool moveFolds(const Star& st, const Vec3& p, const std::vector<Vec3>& cur) {
+  constexpr double kCollapse = 1e-12;
+  const bool haveRef = st.refNormal.size() == st.size();
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const Vec3& a = st.at(k);
+    const Vec3& b = st.at(k + 1);
+    const Vec3 next = doubleAreaVector(p, a, b);
+    if (!(next * cur[k] > 0)) return true;
+    if (haveRef && next * st.refNormal[k] < 0) return true;
+    const double l2 = std::max({(a - p).SquaredNorm(), (b - p).SquaredNorm(), (b - a).SquaredNorm()});
+    if (!(next.SquaredNorm() > kCollapse * kCollapse * l2 * l2)) return true;
+  }
+  return false;
+}
+
 /// True when moving the centre from st.center to p flips or collapses a
 /// triangle of the star. A triangle collapses when its area falls to rounding
 /// level relative to its longest edge; it flips when its area vector turns
 /// against the one it has now (or against the plane normal n, for a triangle
 /// that is degenerate now), or against its input normal st.refNormal[k].
 inline bool moveFolds(const Star& st, const Vec3& p, const Vec3& n) {
-  constexpr double kCollapse = 1e-12;  // |sin| of the smallest admissible angle, roughly
-  const bool haveRef = st.refNormal.size() == st.size();
-  for (std::size_t k = 0; k < st.size(); ++k) {
-    const Vec3& a = st.at(k);
-    const Vec3& b = st.at(k + 1);
-    const Vec3 now = doubleAreaVector(st.center, a, b);
-    const Vec3 next = doubleAreaVector(p, a, b);
-    const double l2 = std::max({(a - p).SquaredNorm(), (b - p).SquaredNorm(), (b - a).SquaredNorm()});
-    if (!(next.Norm() > kCollapse * l2)) return true;
-    const double l2now = std::max({(a - st.center).SquaredNorm(), (b - st.center).SquaredNorm(),
-                                   (b - a).SquaredNorm()});
-    const Vec3 cur = now.Norm() > kCollapse * l2now ? now : n;
-    if (!(next * cur > 0)) return true;
-    if (haveRef && next * st.refNormal[k] < 0) return true;
-  }
-  return false;
-}
-
-/// True when q lies within sqrt(limit2) of some triangle of the input patch
-/// (the first triangles, the vertex's own input faces, are tried first).
-inline bool nearPatch(const Star& st, const Vec3& q, double limit2) {
-  for (std::size_t t = 0; t + 2 < st.refPatch.size(); t += 3)
-    if (pointTriangleDistance2(q, st.refPatch[t], st.refPatch[t + 1], st.refPatch[t + 2]) <= limit2) return true;
-  return false;
-}
-
-/// True when, with the centre at p, every triangle of the star stays within
-/// sqrt(limit2) of the input surface patch st.refPatch: its centroid and the
-/// midpoints of its two edges at p are tested. Always true without a patch.
-inline bool staysOnInputSurface(const Star& st, const Vec3& p, double limit2) {
-  if (st.refPatch.empty()) return true;
-  for (std::size_t k = 0; k < st.size(); ++k) {
-    const Vec3& a = st.at(k);
-    const Vec3& b = st.at(k + 1);
-    if (!nearPatch(st, (p + a + b) / 3.0, limit2)) return false;
-    if (!nearPatch(st, (p + a) * 0.5, limit2)) return false;
-  }
-  return nearPatch(st, p, limit2);
+  std::vector<Vec3> cur;
+  foldReferences(st, n, cur);
+  return moveFolds(st, p, cur);
 }
 
 /// Tangential Laplacian target: the centroid of the ring projected on the

@@ -55,8 +55,8 @@ struct SodtParams {
   double epsilon = 2.0;
   /// Corner sensitivity eta of Eq. 10 (> 0): larger finds more corners among the creases.
   double eta = 2.0;
-  /// Basic and Feature: after a move, the vertex and the centroids and edge
-  /// midpoints of its faces must lie within this distance of the input
+  /// Basic and Feature: after a move, the vertex and the midpoints of its
+  /// edges must lie within this distance of the input
   /// surface around it (its one- and two-ring faces in the input mesh), as a
   /// fraction of the bounding-box diagonal (0 disables the check). Keeps
   /// vertices and faces from cutting across creases and bounds the Hausdorff
@@ -81,6 +81,10 @@ struct SodtParams {
   /// one sweep, in units of the mesh's mean edge length. Bounds how far the
   /// surface can drift from the input however many sweeps run.
   double maxNormalStepRel = 0.05;
+  /// Worker threads for the sweeps (0: all hardware threads). Vertices are
+  /// swept colour by colour (no two neighbours share a colour), so the result
+  /// is bit-identical for every thread count.
+  int threads = 0;
 
   /// Throws InvalidInput naming the offending parameter.
   void validate() const {
@@ -104,6 +108,8 @@ struct SodtParams {
       throw InvalidInput("toleranceDeg must be in [0, 180], got " + std::to_string(toleranceDeg));
     if (!(maxNormalStepRel >= 0) || !(maxNormalStepRel <= 10))
       throw InvalidInput("maxNormalStepRel must be in [0, 10], got " + std::to_string(maxNormalStepRel));
+    if (threads < 0 || threads > 1024)
+      throw InvalidInput("threads must be in [0, 1024] (0: all cores), got " + std::to_string(threads));
   }
 };
 
@@ -127,6 +133,11 @@ struct SodtStats {
   int returnedSweep = -1;      ///< sweeps behind the returned state (keepBest may return an earlier one)
   bool stoppedEarly = false;   ///< a sweep improved the quality by less than toleranceDeg
   bool cancelled = false;      ///< the progress callback asked to stop
+  /// Visits (each also counted above, under the outcome it repeats) answered
+  /// without solving: the vertex did not move at its previous visit and
+  /// nothing in its star has moved since, so it would not move now either.
+  long long skipped = 0;
+  int threads = 1;             ///< worker threads the sweeps used
 };
 
 inline const char* toString(Guard g) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "classify.h"
+#include "deviation.h"
 #include "fitting.h"
 #include "flips.h"
 #include "local_solve.h"
@@ -17,8 +18,15 @@
 #include <vcg/complex/complex.h>
 #include <wrap/callback.h>
 
+#include <algorithm>
+#include <array>
 #include <string>
+#include <thread>
 #include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace sodt {
 
@@ -76,8 +84,7 @@ struct SodtSmoother {
       throw InvalidInput(std::to_string(nonFinite) + (nonFinite > 1 ? " vertices have" : " vertex has") +
                          " a non-finite coordinate (NaN or infinite; first: vertex " +
                          std::to_string(firstNonFinite) + "); the mesh was not changed");
-    const RingTopology topo0 = buildRingTopology(m);
-    RingTopology topo = topo0;  // rebuilt after edge flips
+    RingTopology topo = buildRingTopology(m);  // rebuilt after edge flips
     const double meanEdge = meanEdgeLength(m);
 
     Classification cls;
@@ -148,15 +155,32 @@ struct SodtSmoother {
       }
     }
 
-    const std::vector<Vec3> pos0 = pos;
     FaceList faces = makeFaceList(m, p.selectedOnly);
-    std::vector<char> vertexDeleted(nv, 0);
-    for (int i = 0; i < nv; ++i) vertexDeleted[i] = m.vert[i].IsD();
-    const FaceList faces0 = faces;
+    std::vector<char> vertexDeleted;
+    if (p.flips) {
+      vertexDeleted.assign(nv, 0);
+      for (int i = 0; i < nv; ++i) vertexDeleted[i] = m.vert[i].IsD();
+    }
+    // The deviation guard reads the input mesh. Flips change the working
+    // connectivity, so only then does the input need copies of its own.
     const bool deviationGuard =
         p.guard != Guard::None && p.algorithm != Algorithm::Denoise && p.maxDeviationRel > 0;
-    const double devLimit = p.maxDeviationRel * bboxDiagonal(pos, topo);
-    Context ctx{p, cls, fit, meanEdge, devLimit * devLimit};
+    std::vector<Vec3> pos0;
+    RingTopology topo0;
+    FaceList faces0;
+    InputSurface input;
+    if (deviationGuard) {
+      pos0 = pos;
+      if (p.flips) {
+        topo0 = topo;
+        faces0 = faces;
+      }
+      input.faces = p.flips ? &faces0 : &faces;
+      input.topo = p.flips ? &topo0 : &topo;
+      input.pos = &pos0;
+      input.prepare(p.maxDeviationRel * bboxDiagonal(pos, topo));
+    }
+    Context ctx{p, cls, fit, meanEdge, deviationGuard ? &input : nullptr};
     FlipRules flipRules;
     flipRules.maxDihedralRad = p.flipMaxDihedralDeg * kPi / 180.0;
     if (p.algorithm != Algorithm::Basic) flipRules.cls = &cls.cls;
@@ -170,18 +194,65 @@ struct SodtSmoother {
     FaceList bestFaces = p.keepBest && p.flips ? faces : FaceList();
     int bestSweep = 0;
 
-    Star star;
+    // Gauss-Seidel by colours: no two neighbours share a colour, so the
+    // vertices of one colour read only positions that stay fixed while that
+    // colour is swept, and can move in any order or in parallel with the same
+    // result. A visit is a function of the positions of the vertex's star
+    // (and of data fixed for the run), so a visit that moved nothing need not
+    // be repeated until something in its star moves: it is answered from the
+    // previous outcome. Both keep the result independent of the thread count.
+    const int threads = resolveThreads(p.threads);
+    stats.threads = threads;
+    SweepPlan plan = colourVertices(topo, active);
+    std::vector<int> lastVisit(nv, -1), movedAt(nv, -1);
+    std::vector<Outcome> lastOutcome(nv, Outcome::Moved);
+    std::vector<Scratch> scratch(threads);
+    int maxValence = 0;
+    for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
+    for (Scratch& s : scratch) s.reserve(maxValence);
+    int phase = 0;  // colours swept so far, over all sweeps
+
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
-      for (int i : active) {
-        star.center = pos[i];
-        star.ring.clear();
-        star.refNormal.clear();
-        for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k) {
-          star.ring.push_back(pos[topo.ringIdx[k]]);
-          if (!faceNormal.empty()) star.refNormal.push_back(faceNormal[topo.ringFace[k]]);
+      const bool inputConnectivity = stats.flips == 0;
+      for (std::size_t c = 0; c + 1 < plan.colourBegin.size(); ++c, ++phase) {
+        const int* vs = plan.order.data() + plan.colourBegin[c];
+        const int n = plan.colourBegin[c + 1] - plan.colourBegin[c];
+        const auto visitOne = [&](int j, Scratch& sc) {
+          const int i = vs[j];
+          if (lastVisit[i] >= 0 && !moves(lastOutcome[i])) {
+            bool still = true;
+            for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1] && still; ++k)
+              still = movedAt[topo.ringIdx[k]] < lastVisit[i];
+            if (still) {
+              ++sc.count[static_cast<int>(lastOutcome[i])];
+              ++sc.skipped;
+              return;
+            }
+          }
+          Star& star = sc.star;
+          const int b = topo.ringBegin[i], e = topo.ringBegin[i + 1];
+          star.center = pos[i];
+          star.ring.resize(e - b);
+          for (int k = b; k < e; ++k) star.ring[k - b] = pos[topo.ringIdx[k]];
+          if (!faceNormal.empty()) {
+            star.refNormal.resize(e - b);
+            for (int k = b; k < e; ++k) star.refNormal[k - b] = faceNormal[topo.ringFace[k]];
+          }
+          const int* hints = inputConnectivity ? topo.ringFace.data() + b : nullptr;
+          const Outcome o = visitVertex(ctx, i, star, hints, sc, pos[i]);
+          ++sc.count[static_cast<int>(o)];
+          lastVisit[i] = phase;
+          lastOutcome[i] = o;
+          if (moves(o)) movedAt[i] = phase;
+        };
+#ifdef _OPENMP
+        if (threads > 1 && n >= kMinParallelColour) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+          for (int j = 0; j < n; ++j) visitOne(j, scratch[omp_get_thread_num()]);
+          continue;
         }
-        if (deviationGuard) gatherInputPatch(faces0, topo0, pos0, i, star.refPatch);
-        count(stats, visitVertex(ctx, i, star, pos[i]));
+#endif
+        for (int j = 0; j < n; ++j) visitOne(j, scratch[0]);
       }
       ++stats.iterations;
       if (p.flips) {
@@ -194,6 +265,10 @@ struct SodtSmoother {
         if (flipped > 0) {
           stats.flips += flipped;
           topo = buildRingTopology(faces, vertexDeleted);
+          plan = colourVertices(topo, active);
+          for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
+          for (Scratch& s : scratch) s.reserve(maxValence);
+          std::fill(lastVisit.begin(), lastVisit.end(), -1);  // stars changed: visit everything again
         }
       }
       bool stop = false;
@@ -220,6 +295,10 @@ struct SodtSmoother {
         stats.cancelled = true;
         break;
       }
+    }
+    for (const Scratch& sc : scratch) {
+      for (int o = 0; o < kOutcomes; ++o) count(stats, static_cast<Outcome>(o), sc.count[o]);
+      stats.skipped += sc.skipped;
     }
     stats.returnedSweep = stats.iterations;
     if (p.keepBest && bestSweep != stats.iterations) {
@@ -304,42 +383,63 @@ struct SodtSmoother {
         for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[fl.tri[f][j]];
   }
 
-  /// The input faces incident to vertex i, then those incident to its ring
-  /// neighbours (shared faces repeat; harmless), as vertex triples at the
-  /// input positions.
-  static void gatherInputPatch(const FaceList& faces0, const RingTopology& topo0, const std::vector<Vec3>& pos0,
-                               int i, std::vector<Vec3>& patch) {
-    patch.clear();
-    auto addFacesOf = [&](int v) {
-      if (topo0.kind[v] != VertexKind::Interior) return;
-      for (int k = topo0.ringBegin[v]; k < topo0.ringBegin[v + 1]; ++k)
-        for (int j = 0; j < 3; ++j) patch.push_back(pos0[faces0.tri[topo0.ringFace[k]][j]]);
-    };
-    addFacesOf(i);
-    for (int k = topo0.ringBegin[i]; k < topo0.ringBegin[i + 1]; ++k) addFacesOf(topo0.ringIdx[k]);
-  }
-
   /// Read-only state shared by all visits of a run.
   struct Context {
     const SodtParams& p;
     const Classification& cls;
     const std::vector<FittedFrame>& fit;  ///< Denoise only
     double meanEdge;
-    double deviationLimit2;  ///< squared distance bound to the input one-ring (stars carry it when used)
+    const InputSurface* input;  ///< deviation guard, or null
   };
 
   /// How one vertex visit ended.
   enum class Outcome : unsigned char { Moved, Backtracked, Fallback, Rejected, Unchanged, Failed };
 
-  static void count(SodtStats& s, Outcome o) {
+  static constexpr int kOutcomes = 6;
+
+  /// True for the outcomes that changed the vertex's position.
+  static bool moves(Outcome o) { return o == Outcome::Moved || o == Outcome::Backtracked || o == Outcome::Fallback; }
+
+  static void count(SodtStats& s, Outcome o, long long n) {
     switch (o) {
-      case Outcome::Moved: ++s.moved; break;
-      case Outcome::Backtracked: ++s.backtracked; break;
-      case Outcome::Fallback: ++s.fallbackMoves; break;
-      case Outcome::Rejected: ++s.rejected; break;
-      case Outcome::Unchanged: ++s.unchanged; break;
-      case Outcome::Failed: ++s.failedSolves; break;
+      case Outcome::Moved: s.moved += n; break;
+      case Outcome::Backtracked: s.backtracked += n; break;
+      case Outcome::Fallback: s.fallbackMoves += n; break;
+      case Outcome::Rejected: s.rejected += n; break;
+      case Outcome::Unchanged: s.unchanged += n; break;
+      case Outcome::Failed: s.failedSolves += n; break;
     }
+  }
+
+  /// Per-thread working memory of the sweeps and its share of the counters.
+  struct Scratch {
+    Star star;
+    std::vector<Vec3> foldRef;  ///< see foldReferences
+    std::array<long long, kOutcomes> count{};
+    long long skipped = 0;
+    /// Sized up front so that no visit allocates (allocation inside a
+    /// parallel region could not report failure).
+    void reserve(int valence) {
+      star.ring.reserve(valence);
+      star.refNormal.reserve(valence);
+      foldRef.reserve(valence);
+    }
+  };
+
+  /// Colours with fewer vertices than this are swept by one thread: starting
+  /// the others would cost more than it saves.
+  static constexpr int kMinParallelColour = 512;
+
+  /// The thread count a run uses: p.threads, or all hardware threads for 0;
+  /// 1 when the build has no OpenMP.
+  static int resolveThreads(int requested) {
+#ifdef _OPENMP
+    if (requested > 0) return requested;
+    return std::max(1u, std::thread::hardware_concurrency());
+#else
+    (void)requested;
+    return 1;
+#endif
   }
 
   /// Bounding-box diagonal of the live vertices.
@@ -358,8 +458,8 @@ struct SodtSmoother {
   /// Tries the step from the centre towards target, shortened by halvings,
   /// under the guard. Returns the number of halvings used, -1 when every
   /// length was vetoed, -2 when the step rounds to no move at all.
-  static int tryStep(const Star& star, const Vec3& target, const Vec3& n, const Context& c,
-                     double minAngleCos2Before, Vec3& x) {
+  static int tryStep(const Context& c, int i, const Star& star, const int* hints, const std::vector<Vec3>& foldRef,
+                     const Vec3& target, double minAngleCos2Before, Vec3& x) {
     const SodtParams& p = c.p;
     const Vec3 step = target - star.center;
     double f = 1.0;
@@ -367,9 +467,9 @@ struct SodtSmoother {
       const Vec3 y = representable(star.center + step * f);
       if (!isFinite(y)) continue;
       if (y == x) return j == 0 ? -2 : -1;  // shorter steps round to nothing as well
-      if (moveFolds(star, y, n)) continue;
+      if (moveFolds(star, y, foldRef)) continue;
       if (p.guard == Guard::Quality && !starKeepsMinAngle(star, y, minAngleCos2Before)) continue;
-      if (!staysOnInputSurface(star, y, c.deviationLimit2)) continue;
+      if (c.input && !c.input->keeps(i, star, y, hints)) continue;
       x = y;
       return j;
     }
@@ -466,8 +566,9 @@ struct SodtSmoother {
     return pr;
   }
 
-  /// Proposes, guards and commits the move of vertex i into x.
-  static Outcome visitVertex(const Context& c, int i, const Star& star, Vec3& x) {
+  /// Proposes, guards and commits the move of vertex i into x. hints: the
+  /// input face of each star triangle while the connectivity is the input's.
+  static Outcome visitVertex(const Context& c, int i, const Star& star, const int* hints, Scratch& sc, Vec3& x) {
     const Proposal pr = propose(c, i, star);
     if (!pr.ok) return Outcome::Failed;
     const SodtParams& p = c.p;
@@ -481,10 +582,12 @@ struct SodtSmoother {
       return Outcome::Moved;
     }
     const double before = p.guard == Guard::Quality ? starMinAngleCos2(star, star.center) : 1.0;
-    const int r = tryStep(star, pr.target, pr.normal, c, before, x);
+    foldReferences(star, pr.normal, sc.foldRef);
+    const int r = tryStep(c, i, star, hints, sc.foldRef, pr.target, before, x);
     if (r == 0) return Outcome::Moved;
     if (r > 0) return Outcome::Backtracked;
-    if (p.laplacianFallback && tryStep(star, pr.fallback, pr.normal, c, before, x) >= 0) return Outcome::Fallback;
+    if (p.laplacianFallback && tryStep(c, i, star, hints, sc.foldRef, pr.fallback, before, x) >= 0)
+      return Outcome::Fallback;
     return r == -2 ? Outcome::Unchanged : Outcome::Rejected;
   }
 };

@@ -168,6 +168,44 @@ inline RingTopology buildRingTopology(const FaceList& faces, const std::vector<c
   return topo;
 }
 
+/// An order of the vertices to sweep in which no two neighbours share a
+/// colour: colour c is order[colourBegin[c] .. colourBegin[c+1]).
+struct SweepPlan {
+  std::vector<int> order;
+  std::vector<int> colourBegin;
+};
+
+/// Greedy colouring of the given vertices (ascending index order, each gets
+/// the smallest colour none of its ring neighbours among them has). Only
+/// ring adjacency counts: vertices outside the list never move. Deterministic.
+inline SweepPlan colourVertices(const RingTopology& topo, const std::vector<int>& vertices) {
+  const int nv = static_cast<int>(topo.kind.size());
+  std::vector<int> colour(nv, -1);
+  std::vector<int> seenAt;  // seenAt[c] == v: colour c is taken by a neighbour of v
+  int colours = 0;
+  for (int v : vertices) {
+    for (int k = topo.ringBegin[v]; k < topo.ringBegin[v + 1]; ++k) {
+      const int c = colour[topo.ringIdx[k]];
+      if (c >= 0) seenAt[c] = v;
+    }
+    int c = 0;
+    while (c < colours && seenAt[c] == v) ++c;
+    if (c == colours) {
+      ++colours;
+      seenAt.push_back(-1);
+    }
+    colour[v] = c;
+  }
+  SweepPlan plan;
+  plan.colourBegin.assign(colours + 1, 0);
+  for (int v : vertices) ++plan.colourBegin[colour[v] + 1];
+  for (int c = 0; c < colours; ++c) plan.colourBegin[c + 1] += plan.colourBegin[c];
+  plan.order.resize(vertices.size());
+  std::vector<int> fill(plan.colourBegin.begin(), plan.colourBegin.end() - 1);
+  for (int v : vertices) plan.order[fill[colour[v]]++] = v;
+  return plan;
+}
+
 /// Builds the ring topology of m (see the FaceList overload). Needs no vcg adjacency.
 template <class MeshType>
 RingTopology buildRingTopology(const MeshType& m) {

@@ -1,0 +1,171 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The coloured sweep: a valid colouring, results independent of the thread
+// count, and skipped visits that change nothing.
+#include "test_mesh.h"
+
+#include <sodt/io.h>
+#include <sodt/metrics.h>
+#include <sodt/smoother.h>
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+namespace {
+
+using sodt::MeshD;
+
+void loadBundled(MeshD& m, const std::string& name) {
+  const std::string path = std::string(SODT_MESH_DIR) + "/" + name;
+  ASSERT_TRUE(sodt_test::fileExists(path)) << path;
+  sodt::loadMesh(path, m);
+}
+
+std::vector<vcg::Point3d> positions(const MeshD& m) {
+  std::vector<vcg::Point3d> p;
+  for (const auto& v : m.vert) p.push_back(v.cP());
+  return p;
+}
+
+std::vector<std::array<int, 3>> faces(const MeshD& m) {
+  std::vector<std::array<int, 3>> f;
+  for (const auto& F : m.face)
+    f.push_back({int(F.cV(0) - &m.vert[0]), int(F.cV(1) - &m.vert[0]), int(F.cV(2) - &m.vert[0])});
+  return f;
+}
+
+/// Every counter of the run (threads aside).
+std::vector<long long> counters(const sodt::SodtStats& s) {
+  return {s.iterations,   s.moved,        s.backtracked,   s.rejected,     s.failedSolves, s.unchanged,
+          s.fallbackMoves, s.activeVertices, s.flips,       s.returnedSweep, s.skipped,     s.smoothVertices,
+          s.creaseVertices, s.cornerVertices};
+}
+
+}  // namespace
+
+TEST(Colouring, NeighboursNeverShareAColourAndEveryVertexAppearsOnce) {
+  MeshD m;
+  loadBundled(m, "blobs_mc.ply");
+  const sodt::RingTopology topo = sodt::buildRingTopology(m);
+  std::vector<int> active;
+  for (int i = 0; i < static_cast<int>(m.vert.size()); ++i)
+    if (topo.kind[i] == sodt::VertexKind::Interior) active.push_back(i);
+  const sodt::SweepPlan plan = sodt::colourVertices(topo, active);
+  ASSERT_EQ(plan.order.size(), active.size());
+  EXPECT_EQ(std::set<int>(plan.order.begin(), plan.order.end()), std::set<int>(active.begin(), active.end()));
+  std::vector<int> colour(m.vert.size(), -1);
+  for (std::size_t c = 0; c + 1 < plan.colourBegin.size(); ++c)
+    for (int j = plan.colourBegin[c]; j < plan.colourBegin[c + 1]; ++j) colour[plan.order[j]] = int(c);
+  int maxValence = 0, conflicts = 0;
+  for (int v : active) {
+    maxValence = std::max(maxValence, topo.ringSize(v));
+    for (int k = topo.ringBegin[v]; k < topo.ringBegin[v + 1]; ++k) conflicts += colour[topo.ringIdx[k]] == colour[v];
+  }
+  EXPECT_EQ(conflicts, 0);
+  const int colours = static_cast<int>(plan.colourBegin.size()) - 1;
+  EXPECT_GE(colours, 3);  // a triangle mesh needs at least three
+  EXPECT_LE(colours, maxValence + 1);
+  std::printf("blobs_mc: %zu vertices in %d colours (max valence %d)\n", active.size(), colours, maxValence);
+}
+
+TEST(Parallel, ResultsAreBitIdenticalForEveryThreadCount) {
+  // blobs_mc's colours hold ~1000 vertices each, enough to be split between threads.
+  MeshD input;
+  loadBundled(input, "blobs_mc.ply");
+  MeshD noisy;
+  loadBundled(noisy, "cube_noisy.ply");
+  struct Case {
+    MeshD* mesh;
+    sodt::Algorithm algorithm;
+    sodt::Guard guard;
+    bool flips;
+  };
+  const std::vector<Case> cases = {
+      {&input, sodt::Algorithm::Basic, sodt::Guard::Quality, false},
+      {&input, sodt::Algorithm::Basic, sodt::Guard::None, false},
+      {&input, sodt::Algorithm::Basic, sodt::Guard::Fold, true},
+      {&input, sodt::Algorithm::Feature, sodt::Guard::Quality, false},
+      {&input, sodt::Algorithm::Odt, sodt::Guard::Quality, false},
+      {&noisy, sodt::Algorithm::Denoise, sodt::Guard::Quality, false},
+  };
+  for (const Case& c : cases) {
+    std::vector<vcg::Point3d> refPos;
+    std::vector<std::array<int, 3>> refFaces;
+    std::vector<long long> refCounters;
+    for (int threads : {1, 2, 3, 4}) {
+      MeshD m;
+      vcg::tri::Append<MeshD, MeshD>::MeshCopy(m, *c.mesh);
+      sodt::SodtParams p;
+      p.algorithm = c.algorithm;
+      p.guard = c.guard;
+      p.flips = c.flips;
+      p.iterations = 10;
+      p.threads = threads;
+      const sodt::SodtStats s = sodt::SodtSmoother<MeshD>::Apply(m, p);
+      const std::string what = std::string(sodt::toString(c.algorithm)) + "/" + sodt::toString(c.guard) +
+                               (c.flips ? "/flips" : "") + " threads " + std::to_string(threads);
+      if (threads == 1) {
+        EXPECT_GT(s.moved + s.backtracked + s.fallbackMoves, 0) << what;
+        refPos = positions(m);
+        refFaces = faces(m);
+        refCounters = counters(s);
+        continue;
+      }
+#ifdef _OPENMP
+      EXPECT_EQ(s.threads, threads) << what;
+#endif
+      EXPECT_TRUE(positions(m) == refPos) << what;  // exact, not approximate
+      EXPECT_TRUE(faces(m) == refFaces) << what;
+      EXPECT_EQ(counters(s), refCounters) << what;
+    }
+  }
+}
+
+TEST(Parallel, TwoThreadsKeepTheVolumeOfAClosedMesh) {
+  MeshD m;
+  sodt_test::makeSphere(m, 5);  // 10k vertices: colours large enough to split
+  sodt_test::jitterOnSphere(m, 0.4, 7);
+  const double v0 = sodt::enclosedVolume(m).volume;
+  sodt::SodtParams p;
+  p.guard = sodt::Guard::None;
+  p.threads = 2;
+  const sodt::SodtStats s = sodt::SodtSmoother<MeshD>::Apply(m, p);
+  EXPECT_GT(s.moved, 10 * m.vn);
+  EXPECT_LT(std::abs(sodt::enclosedVolume(m).volume - v0) / v0, 1e-12);
+}
+
+TEST(Parallel, SkippedVisitsChangeNothing) {
+  // One call of K sweeps (which skips vertices whose stars did not change
+  // since they last stayed put) must equal K calls of one sweep each (which
+  // start without any memory and so visit everything). The deviation guard
+  // is off: its reference, the input of the call, would differ between them.
+  // (So does the fold guard's input orientation of the faces, but on this
+  // mesh no face turns far enough for that to matter.)
+  MeshD input;
+  loadBundled(input, "blobs_mc.ply");
+  for (sodt::Guard g : {sodt::Guard::Quality}) {
+    sodt::SodtParams p;
+    p.guard = g;
+    p.maxDeviationRel = 0;
+    p.iterations = 12;
+    MeshD once;
+    vcg::tri::Append<MeshD, MeshD>::MeshCopy(once, input);
+    const sodt::SodtStats s = sodt::SodtSmoother<MeshD>::Apply(once, p);
+    EXPECT_GT(s.skipped, 0) << "the fixture should have vertices to skip";
+    MeshD stepwise;
+    vcg::tri::Append<MeshD, MeshD>::MeshCopy(stepwise, input);
+    p.iterations = 1;
+    long long rejected = 0, unchanged = 0;
+    for (int k = 0; k < 12; ++k) {
+      const sodt::SodtStats t = sodt::SodtSmoother<MeshD>::Apply(stepwise, p);
+      EXPECT_EQ(t.skipped, 0);
+      rejected += t.rejected;
+      unchanged += t.unchanged;
+    }
+    EXPECT_TRUE(positions(once) == positions(stepwise)) << sodt::toString(g);
+    EXPECT_EQ(s.rejected, rejected) << "skipped visits count under the outcome they repeat";
+    EXPECT_EQ(s.unchanged, unchanged);
+  }
+}
