@@ -49,23 +49,26 @@ struct InputSurface {
     return pointTriangleDistance2(q, P[t[0]], P[t[1]], P[t[2]]) <= limit2;
   }
 
-  /// True when q lies within sqrt(limit2) of a face of v's input patch.
-  /// The face hint (-1 for none) is tried first; the answer does not depend
-  /// on it, only the time does.
-  bool near(int v, const Vec3& q, int hint) const {
-    if (hint >= 0 && nearFace(hint, q)) return true;
+  /// A face of v's input patch within sqrt(limit2) of q, or -1 when there is
+  /// none. The face hint (-1 for none) is tried first; whether a face is
+  /// found does not depend on it, only the time does.
+  int nearFaceOf(int v, const Vec3& q, int hint) const {
+    if (hint >= 0 && nearFace(hint, q)) return hint;
     const RingTopology& T = *topo;
     const int b = T.ringBegin[v], e = T.ringBegin[v + 1];
     for (int k = b; k < e; ++k)
-      if (T.ringFace[k] != hint && nearFace(T.ringFace[k], q)) return true;
+      if (T.ringFace[k] != hint && nearFace(T.ringFace[k], q)) return T.ringFace[k];
     for (int k = b; k < e; ++k) {
       const int u = T.ringIdx[k];
       if (T.kind[u] != VertexKind::Interior) continue;
       for (int j = T.ringBegin[u]; j < T.ringBegin[u + 1]; ++j)
-        if (nearFace(T.ringFace[j], q)) return true;
+        if (nearFace(T.ringFace[j], q)) return T.ringFace[j];
     }
-    return false;
+    return -1;
   }
+
+  /// True when q lies within sqrt(limit2) of a face of v's input patch.
+  bool near(int v, const Vec3& q, int hint) const { return nearFaceOf(v, q, hint) >= 0; }
 
   /// True when, with vertex v (the centre of st) at p, p and the midpoints of
   /// the star's edges at p lie within sqrt(limit2) of v's input patch. Where
@@ -73,11 +76,14 @@ struct InputSurface {
   /// point of a star triangle is one of its corners; the edge midpoints catch
   /// edges that cut across a crease or a bend. hints, when not null, gives per
   /// star triangle the input face it came from (valid while the connectivity
-  /// is the input's). A vertex that is not interior in the input is not
-  /// restricted.
-  bool keeps(int v, const Star& st, const Vec3& p, const int* hints) const {
+  /// is the input's). pointHint is a face to try first for p (-1 for none);
+  /// it is set to the face found. A vertex that is not interior in the input
+  /// is not restricted.
+  bool keeps(int v, const Star& st, const Vec3& p, const int* hints, int& pointHint) const {
     if (topo->kind[v] != VertexKind::Interior) return true;
-    if (!near(v, p, hints ? hints[0] : -1)) return false;
+    const int f = nearFaceOf(v, p, pointHint >= 0 ? pointHint : (hints ? hints[0] : -1));
+    if (f < 0) return false;
+    pointHint = f;
     for (std::size_t k = 0; k < st.size(); ++k) {
       if (!near(v, (p + st.ring[k] + st.at(k + 1)) / 3.0, hints ? hints[k] : -1)) return false;
       if (!near(v, (p + st.ring[k]) * 0.5, hints ? hints[k] : -1)) return false;

@@ -43,10 +43,16 @@ struct SodtSystem {
 /// face normals, i.e. the normalised sum of the triangles' area vectors.
 /// Returns the zero vector when that sum vanishes.
 inline Vec3 starNormal(const Star& st) {
-  Vec3 sum(0, 0, 0);
   const std::size_t n = st.size();
-  for (std::size_t k = 0; k < n; ++k)
-    sum += (st.at(k) - st.center) ^ (st.at(k + 1) - st.center);
+  if (n == 0) return Vec3(0, 0, 0);
+  Vec3 sum(0, 0, 0);
+  const Vec3 first = st.ring[0] - st.center;
+  Vec3 a = first;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 b = k + 1 < n ? st.ring[k + 1] - st.center : first;
+    sum += a ^ b;
+    a = b;
+  }
   const double len = sum.Norm();
   if (!(len > 0) || !std::isfinite(len)) return Vec3(0, 0, 0);
   return sum / len;
@@ -77,8 +83,11 @@ inline double sodtEnergy(const Star& st, const Vec3& p, const Vec3& n) {
 inline SodtSystem sodtCoefficients(const Star& st, const Vec3& n, const Vec3& s, const Vec3& t) {
   SodtSystem q;
   const std::size_t N = st.size();
+  if (N == 0) return q;
+  const Vec3 first = st.ring[0] - st.center;
+  Vec3 Xa = first;
   for (std::size_t k = 0; k < N; ++k) {
-    const Vec3 Xa = st.at(k) - st.center, Xb = st.at(k + 1) - st.center;
+    const Vec3 Xb = k + 1 < N ? st.ring[k + 1] - st.center : first;
     const Vec3 e = Xb - Xa;
     const Vec3 w = e ^ n;  // det(s, e, n) = s . (e x n)
     const Vec3 sum = Xa + Xb;
@@ -91,6 +100,7 @@ inline SodtSystem sodtCoefficients(const Star& st, const Vec3& n, const Vec3& s,
     q.G += ss * tw + ts * sw;
     q.H += ss * c + r * sw;
     q.I += ts * c + r * tw;
+    Xa = Xb;
   }
   q.E += q.C;
   q.F += q.C;
@@ -101,11 +111,11 @@ inline SodtSystem sodtCoefficients(const Star& st, const Vec3& n, const Vec3& s,
 /// (Algorithm 1, one vertex). Computed in double; never returns NaN.
 /// \return ok=false when the star is degenerate or the quadratic is not
 ///         strictly convex (Hessian test E > 0 and 4EF > G^2).
-inline LocalMove solveStar(const Star& st) {
+inline LocalMove solveStar(const Star& st, const Vec3& normal) {
   LocalMove mv;
   mv.target = st.center;
   if (st.size() < 3) return mv;
-  mv.normal = starNormal(st);
+  mv.normal = normal;
   if (mv.normal.SquaredNorm() == 0) return mv;
   Vec3 s, t;
   tangentFrame(mv.normal, s, t);
@@ -122,6 +132,9 @@ inline LocalMove solveStar(const Star& st) {
   mv.target = target;
   return mv;
 }
+
+/// solveStar with the tangent plane of Eq. 4 computed here.
+inline LocalMove solveStar(const Star& st) { return solveStar(st, starNormal(st)); }
 
 /// The objective of Eq. 5 as a quadratic over all of R^3, for a fixed unit
 /// vector n in D'_k: E(center + p) = p^T Q p + g . p + const. It is exact for
@@ -257,6 +270,55 @@ inline bool moveFolds(const Star& st, const Vec3& p, const std::vector<Vec3>& cu
     if (!(next.SquaredNorm() > kCollapse * kCollapse * l2 * l2)) return true;
   }
   return false;
+}
+
+/// Fold test and, when cos2Limit < 1 (or quality is set), the smallest-angle
+/// test of starKeepsMinAngle in one pass over the star: true when moving the
+/// centre to p neither folds nor collapses a triangle (see moveFolds) nor
+/// gives one a smaller smallest angle than the one with squared cosine
+/// cos2Limit. ringEdge2[k] is |ring[k+1] - ring[k]|^2, which no move changes.
+inline bool moveAllowed(const Star& st, const Vec3& p, const std::vector<Vec3>& cur,
+                        const std::vector<double>& ringEdge2, bool quality, double cos2Limit) {
+  constexpr double kCollapse = 1e-12;
+  const bool haveRef = st.refNormal.size() == st.size();
+  const std::size_t n = st.size();
+  const Vec3 first = st.ring[0] - p;
+  Vec3 u = first;
+  double uu = u.SquaredNorm();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 w = k + 1 < n ? st.ring[k + 1] - p : first;
+    const double ww = w.SquaredNorm();
+    const Vec3 next = u ^ w;  // doubled area vector of (p, a, b)
+    if (!(next * cur[k] > 0)) return false;
+    if (haveRef && next * st.refNormal[k] < 0) return false;
+    const double ee = ringEdge2[k];
+    const double l2 = std::max({uu, ww, ee});
+    if (!(next.SquaredNorm() > kCollapse * kCollapse * l2 * l2)) return false;
+    if (quality) {
+      // The smallest angle is opposite the shortest edge (as triangleMinAngleCos2).
+      double dot, l1, l3;
+      const double uw = u * w;
+      if (ee <= uu && ee <= ww) {
+        dot = uw, l1 = uu, l3 = ww;  // corner at p
+      } else if (ww <= uu) {
+        dot = uu - uw, l1 = uu, l3 = ee;  // corner at a: (p - a).(b - a) = |u|^2 - u.w
+      } else {
+        dot = ww - uw, l1 = ww, l3 = ee;  // corner at b: (p - b).(a - b) = |w|^2 - u.w
+      }
+      const double den = l1 * l3;
+      const double c2 = !(den > 0) ? 1.0 : (dot <= 0 ? 0.0 : std::min(1.0, dot * dot / den));
+      if (c2 > cos2Limit) return false;
+    }
+    u = w;
+    uu = ww;
+  }
+  return true;
+}
+
+/// |ring[k+1] - ring[k]|^2 for every k, for moveAllowed.
+inline void ringEdgeLengths2(const Star& st, std::vector<double>& out) {
+  out.resize(st.size());
+  for (std::size_t k = 0; k < st.size(); ++k) out[k] = (st.at(k + 1) - st.at(k)).SquaredNorm();
 }
 
 /// True when moving the centre from st.center to p flips or collapses a

@@ -206,6 +206,9 @@ struct SodtSmoother {
     SweepPlan plan = colourVertices(topo, active);
     std::vector<int> lastVisit(nv, -1), movedAt(nv, -1);
     std::vector<Outcome> lastOutcome(nv, Outcome::Moved);
+    // Per vertex, the input face its position was last found near (a hint
+    // for the deviation guard; every vertex writes only its own).
+    std::vector<int> pointHint(nv, -1);
     std::vector<Scratch> scratch(threads);
     int maxValence = 0;
     for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
@@ -239,7 +242,7 @@ struct SodtSmoother {
             for (int k = b; k < e; ++k) star.refNormal[k - b] = faceNormal[topo.ringFace[k]];
           }
           const int* hints = inputConnectivity ? topo.ringFace.data() + b : nullptr;
-          const Outcome o = visitVertex(ctx, i, star, hints, sc, pos[i]);
+          const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, pos[i]);
           ++sc.count[static_cast<int>(o)];
           lastVisit[i] = phase;
           lastOutcome[i] = o;
@@ -415,6 +418,7 @@ struct SodtSmoother {
   struct Scratch {
     Star star;
     std::vector<Vec3> foldRef;  ///< see foldReferences
+    std::vector<double> ringEdge2;  ///< see ringEdgeLengths2
     std::array<long long, kOutcomes> count{};
     long long skipped = 0;
     /// Sized up front so that no visit allocates (allocation inside a
@@ -423,6 +427,7 @@ struct SodtSmoother {
       star.ring.reserve(valence);
       star.refNormal.reserve(valence);
       foldRef.reserve(valence);
+      ringEdge2.reserve(valence);
     }
   };
 
@@ -459,7 +464,8 @@ struct SodtSmoother {
   /// under the guard. Returns the number of halvings used, -1 when every
   /// length was vetoed, -2 when the step rounds to no move at all.
   static int tryStep(const Context& c, int i, const Star& star, const int* hints, const std::vector<Vec3>& foldRef,
-                     const Vec3& target, double minAngleCos2Before, Vec3& x) {
+                     const std::vector<double>& ringEdge2, const Vec3& target, double minAngleCos2Before,
+                     int& pointHint, Vec3& x) {
     const SodtParams& p = c.p;
     const Vec3 step = target - star.center;
     double f = 1.0;
@@ -467,9 +473,8 @@ struct SodtSmoother {
       const Vec3 y = representable(star.center + step * f);
       if (!isFinite(y)) continue;
       if (y == x) return j == 0 ? -2 : -1;  // shorter steps round to nothing as well
-      if (moveFolds(star, y, foldRef)) continue;
-      if (p.guard == Guard::Quality && !starKeepsMinAngle(star, y, minAngleCos2Before)) continue;
-      if (c.input && !c.input->keeps(i, star, y, hints)) continue;
+      if (!moveAllowed(star, y, foldRef, ringEdge2, p.guard == Guard::Quality, minAngleCos2Before)) continue;
+      if (c.input && !c.input->keeps(i, star, y, hints, pointHint)) continue;
       x = y;
       return j;
     }
@@ -482,6 +487,9 @@ struct SodtSmoother {
     bool ok = false;
     Vec3 target, fallback;
     Vec3 normal;  ///< tangent-plane normal, for the fold test of degenerate faces
+    /// The fallback is the tangential Laplacian target in the plane of
+    /// normal, computed only if needed (fallback is unset then).
+    bool tangentialFallback = false;
   };
 
   /// Where the chosen algorithm wants vertex i (star centre) to go.
@@ -489,10 +497,31 @@ struct SodtSmoother {
     Proposal pr;
     pr.normal = starNormal(star);
     if (pr.normal.SquaredNorm() == 0 || star.size() < 3) return pr;
+    const VertexClass vc = c.cls.cls[i];
+    const bool smoothBasic = vc != VertexClass::Crease &&
+                             (c.p.algorithm != Algorithm::Denoise || !c.fit[i].ok);
+    if (smoothBasic) {
+      // The hot path: Algorithms 1-2 on a smooth vertex and the references.
+      pr.tangentialFallback = true;
+      if (c.p.algorithm == Algorithm::Odt) {
+        const LocalMove mv = solveStarOdt(star);
+        if (!mv.ok) return pr;
+        pr.target = mv.target;
+      } else if (c.p.algorithm == Algorithm::Laplacian) {
+        Vec3 centroid(0, 0, 0);
+        for (const Vec3& q : star.ring) centroid += q;
+        pr.target = centroid / double(star.size());  // Eq. 3 with every S'_k = 1: not restricted to the tangent plane
+      } else {
+        const LocalMove mv = solveStar(star, pr.normal);
+        if (!mv.ok) return pr;
+        pr.target = mv.target;
+      }
+      pr.ok = true;
+      return pr;
+    }
     Vec3 centroid(0, 0, 0);
     for (const Vec3& q : star.ring) centroid += q;
     centroid /= double(star.size());
-    const VertexClass vc = c.cls.cls[i];
 
     if (c.p.algorithm == Algorithm::Denoise && c.fit[i].ok) {
       const FittedFrame& f = c.fit[i];
@@ -544,31 +573,13 @@ struct SodtSmoother {
       return pr;
     }
 
-    if (c.p.algorithm == Algorithm::Odt || c.p.algorithm == Algorithm::Laplacian) {
-      if (c.p.algorithm == Algorithm::Odt) {
-        const LocalMove mv = solveStarOdt(star);
-        if (!mv.ok) return pr;
-        pr.target = mv.target;
-      } else {
-        pr.target = centroid;  // Eq. 3 with every S'_k = 1: not restricted to the tangent plane
-      }
-      pr.fallback = tangentialLaplacianTarget(star, pr.normal);
-      pr.ok = true;
-      return pr;
-    }
-
-    // Smooth vertex of Algorithms 1-2 (and of Algorithm 3 when the fit failed).
-    const LocalMove mv = solveStar(star);
-    if (!mv.ok) return pr;
-    pr.target = mv.target;
-    pr.fallback = tangentialLaplacianTarget(star, pr.normal);
-    pr.ok = true;
     return pr;
   }
 
   /// Proposes, guards and commits the move of vertex i into x. hints: the
   /// input face of each star triangle while the connectivity is the input's.
-  static Outcome visitVertex(const Context& c, int i, const Star& star, const int* hints, Scratch& sc, Vec3& x) {
+  static Outcome visitVertex(const Context& c, int i, const Star& star, const int* hints, int& pointHint, Scratch& sc,
+                             Vec3& x) {
     const Proposal pr = propose(c, i, star);
     if (!pr.ok) return Outcome::Failed;
     const SodtParams& p = c.p;
@@ -583,11 +594,14 @@ struct SodtSmoother {
     }
     const double before = p.guard == Guard::Quality ? starMinAngleCos2(star, star.center) : 1.0;
     foldReferences(star, pr.normal, sc.foldRef);
-    const int r = tryStep(c, i, star, hints, sc.foldRef, pr.target, before, x);
+    ringEdgeLengths2(star, sc.ringEdge2);
+    const int r = tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, x);
     if (r == 0) return Outcome::Moved;
     if (r > 0) return Outcome::Backtracked;
-    if (p.laplacianFallback && tryStep(c, i, star, hints, sc.foldRef, pr.fallback, before, x) >= 0)
-      return Outcome::Fallback;
+    if (p.laplacianFallback) {
+      const Vec3 fallback = pr.tangentialFallback ? tangentialLaplacianTarget(star, pr.normal) : pr.fallback;
+      if (tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, fallback, before, pointHint, x) >= 0) return Outcome::Fallback;
+    }
     return r == -2 ? Outcome::Unchanged : Outcome::Rejected;
   }
 };
