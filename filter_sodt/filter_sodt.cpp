@@ -154,14 +154,18 @@ QString FilterSodtPlugin::filterInfo(FilterIDType filter) const {
                  "angle, the input included. <b>Tolerance</b> (degrees, 0 = off) stops the run "
                  "once a sweep raises neither of the two by more than the tolerance.<br>"
                  "<br>"
+                 "<b>Worker threads</b> (0 = all cores) only change the run time: the vertices are swept "
+                 "colour by colour, never two neighbours at once, so the result is bit-identical for "
+                 "every thread count.<br>"
+                 "<br>"
                  "<b>Output vertex class</b> writes the class each vertex had in the run to its "
                  "quality and colour (with Basic every interior vertex is smooth):") +
              classTableHtml() +
              "The log reports the smallest and largest angle and the fraction of angles below "
              "30&deg; before and after, the enclosed volume of a closed mesh, the vertices per "
              "class, how many vertex visits moved, were shortened, rejected or had a "
-             "singular local system, the number of edge flips, which sweep's state was returned "
-             "and whether the run stopped early.<br>"
+             "singular local system, the threads used, the number of edge flips, which sweep's "
+             "state was returned and whether the run stopped early.<br>"
              "<br>"
              "<b>Erratum</b>: for the crease step x0 + d e3 the paper prints d* = -B/(2A) "
              "(Eq. 11 and Algorithms 2-3). Along e3 the energy of Eq. 5 is A d<sup>2</sup> - B d "
@@ -380,11 +384,13 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
     }
     Log(strFormat("S-ODT: vertex classes: %s%s", classCounts(classes).c_str(),
                   outputClass ? "; written to vertex quality and colour" : ""));
-    Log(strFormat("S-ODT: %d sweeps over %d active vertices: %lld moved, %lld backtracked, "
-                  "%lld Laplacian fallback, %lld rejected, %lld failed solves, %lld unchanged; "
-                  "fixed %d boundary and %d non-manifold vertices",
-                  s.iterations, s.activeVertices, s.moved, s.backtracked, s.fallbackMoves,
-                  s.rejected, s.failedSolves, s.unchanged, s.fixedBoundary, s.fixedNonManifold));
+    Log(strFormat("S-ODT: %d sweeps over %d active vertices with %d thread%s: %lld moved, %lld backtracked, "
+                  "%lld Laplacian fallback, %lld rejected, %lld failed solves, %lld unchanged (%lld answered "
+                  "without solving: nothing in their star had moved); fixed %d boundary and %d non-manifold "
+                  "vertices",
+                  s.iterations, s.activeVertices, s.threads, s.threads == 1 ? "" : "s", s.moved, s.backtracked,
+                  s.fallbackMoves, s.rejected, s.failedSolves, s.unchanged, s.skipped, s.fixedBoundary,
+                  s.fixedNonManifold));
     if (p.flips)
       Log(strFormat("S-ODT: edge flips: %lld (max dihedral %g deg); %s", s.flips, p.flipMaxDihedralDeg,
                     facesChanged > 0

@@ -27,6 +27,7 @@ const char* const kFlips = "flips";
 const char* const kFlipMaxDihedral = "flipMaxDihedral";
 const char* const kKeepBest = "keepBest";
 const char* const kTolerance = "tolerance";
+const char* const kThreads = "threads";
 const char* const kSelectedOnly = "selectedOnly";
 const char* const kOutputClass = "outputClass";
 const char* const kSelectFeatures = "selectFeatures";
@@ -157,6 +158,12 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m) {
       "Stop before Iterations sweeps once a sweep raises neither the smallest angle nor the 1st "
       "percentile of the per-triangle smallest angle by more than this many degrees (0 to 180). "
       "0 runs every sweep."));
+  list.addParam(RichInt(
+      kThreads, d.threads, "Worker threads (0: all cores); the result does not depend on it",
+      "Number of threads that sweep the vertices (0 to 1024; 0 uses every hardware thread, and a "
+      "build without OpenMP always uses one). The vertices are swept colour by colour, never two "
+      "neighbours at once, so the result is bit-identical for every thread count: only the run "
+      "time changes. The log reports the threads used."));
   list.addParam(RichBool(
       kSelectedOnly, m.cm.svn > 0 || m.cm.sfn > 0, "Affect only selection",
       "Move only the selected vertices. With a face selection and no vertex selection, the "
@@ -200,6 +207,7 @@ sodt::SodtParams readSodtParams(const RichParameterList& list) {
   if (!(tolerance >= 0 && tolerance <= 180))
     throw sodt::InvalidInput("tolerance must be in [0, 180] (degrees), got " + std::to_string(tolerance));
   p.toleranceDeg = tolerance;
+  p.threads = list.getInt(kThreads);
   p.selectedOnly = list.getBool(kSelectedOnly);
   return p;
 }

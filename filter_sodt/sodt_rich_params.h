@@ -16,7 +16,8 @@ class RichParameterList;
 /// diagonal), `epsilon` (RichFloat), `eta` (RichFloat), `maxNormalStep`
 /// (RichFloat, fraction of the mean edge length), `flips` (RichBool),
 /// `flipMaxDihedral` (RichFloat, degrees), `keepBest` (RichBool), `tolerance`
-/// (RichFloat, degrees), `selectedOnly` (RichBool), `outputClass` (RichBool).
+/// (RichFloat, degrees), `threads` (RichInt, 0 = all cores), `selectedOnly`
+/// (RichBool), `outputClass` (RichBool).
 /// Enum indices equal the integer values of sodt::Algorithm and sodt::Guard.
 /// Every default is read from sodt::SodtParams{} (`maxDeviation` = 100 *
 /// maxDeviationRel, `flipMaxDihedral` = flipMaxDihedralDeg, `tolerance` =

@@ -382,6 +382,30 @@ TEST_F(CliTest, BadIterationValuesAreUsageErrors) {
   EXPECT_FALSE(exists(out));
 }
 
+TEST_F(CliTest, BadThreadsValuesAreUsageErrors) {
+  const std::string out = dir_ / "out.ply", report = dir_ / "r.json";
+  for (const char* v : {"-1", "abc", "1025", "", "1.5", "2x", "99999999999999999999"}) {
+    const RunResult r = runSodt({"smooth", in_, out, "--threads", v, "--report", report}, dir_);
+    expectUsageError(r);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << v << ": " << r.err;
+    EXPECT_NE(r.err.find("threads"), std::string::npos) << v << ": " << r.err;
+  }
+  RunResult r = runSodt({"smooth", in_, out, "--threads=-1"}, dir_);
+  expectUsageError(r);
+  EXPECT_NE(r.err.find("threads must be in [0, 1024]"), std::string::npos) << r.err;
+  r = runSodt({"smooth", in_, out, "--threads", "abc"}, dir_);
+  EXPECT_NE(r.err.find("option '--threads' needs an integer, got 'abc'"), std::string::npos) << r.err;
+  expectUsageError(runSodt({"smooth", in_, out, "--threads"}, dir_));
+  expectUsageError(runSodt({"classify", in_, dir_ / "c.ply", "--threads", "2"}, dir_));
+  expectOnly({"in.off"});  // no output, report or temporary file
+  // The ends of the range are accepted; 0 means all cores, at least one.
+  for (const char* v : {"0", "1024"}) {
+    r = runSodt({"smooth", in_, out, "--threads", v, "--iterations", "1", "--report", report, "--quiet"}, dir_);
+    ASSERT_EQ(r.exitCode, 0) << v << ": " << r.err;
+    EXPECT_GE(jsonNumber(readFile(report), "threads"), 1) << v;
+  }
+}
+
 TEST_F(CliTest, MissingOptionValueIsUsageError) {
   const RunResult r = runSodt({"smooth", in_, dir_ / "out.ply", "--iterations"}, dir_);
   expectUsageError(r);
@@ -521,12 +545,13 @@ TEST_F(CliTest, HelpAndVersion) {
   for (const char* opt : {"--iterations", "--guard", "--max-backtracks", "--selected-only", "--report", "--quiet",
                           "--algorithm", "feature", "denoise", "--epsilon", "--eta", "--max-deviation",
                           "--max-normal-step", "--classes-out", "--flips", "--flip-max-dihedral", "--keep-best",
-                          "--tolerance"})
+                          "--tolerance", "--threads"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
   // Defaults of the new options from SodtParams: flips off, 20 deg, keep-best off, tolerance 0.
   EXPECT_NE(r.out.find("(default off, as in the paper)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0..90 (default 20)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0..180 (default 0:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0..1024 (default 0: all"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("connectivity"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("non-manifold"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("(default "), std::string::npos);
@@ -673,7 +698,8 @@ TEST_F(CliTest, SmoothImprovesMinAngleAndWritesReport) {
         "volume", "volume_before", "volume_after", "volume_rel_change", "hausdorff_rel", "inverted_faces", "moved", "fallback_moves", "laplacian_fallback",
         "backtracked", "rejected", "failed_solves", "unchanged", "fixed_boundary", "fixed_nonmanifold",
         "cancelled", "min_angle_before", "min_angle_after", "max_angle_before", "max_angle_after", "flips",
-        "flips_enabled", "flip_max_dihedral", "keep_best", "tolerance", "returned_sweep", "stopped_early"})
+        "flips_enabled", "flip_max_dihedral", "keep_best", "tolerance", "returned_sweep", "stopped_early",
+        "threads", "skipped_visits"})
     EXPECT_NE(json.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
   EXPECT_EQ(jsonNumber(json, "vertices"), mesh_.vertices());
   EXPECT_EQ(jsonNumber(json, "faces"), mesh_.faces());
@@ -1002,6 +1028,48 @@ TEST_F(CliTest, BundledBlobsMesh) {
   const std::string json = readFile(report);
   EXPECT_GE(jsonNumber(json, "min_angle_after"), jsonNumber(json, "min_angle_before"));
   EXPECT_EQ(jsonNumber(json, "inverted_faces"), 0);
+}
+
+/// The lines of a JSON report without those of the given top-level members.
+std::string withoutMembers(const std::string& json, const std::vector<std::string>& keys) {
+  std::istringstream in(json);
+  std::string line, kept;
+  while (std::getline(in, line)) {
+    bool drop = false;
+    for (const std::string& k : keys) drop = drop || line.rfind("  \"" + k + "\":", 0) == 0;
+    if (!drop) kept += line + "\n";
+  }
+  return kept;
+}
+
+TEST_F(CliTest, ThreadsDoNotChangeTheResult) {
+  // blobs_mc's colours hold ~1000 vertices each, enough to be split between threads.
+  const std::string blobs = std::string(SODT_MESH_DIR) + "/blobs_mc.ply";
+  if (!exists(blobs)) GTEST_SKIP() << blobs << " is missing (generated into meshes/)";
+  const std::string out = dir_ / "out.ply";  // the same OUT for both: the report names it
+  std::string mesh[2], json[2];
+  for (int t = 1; t <= 2; ++t) {
+    const std::string report = dir_ / ("r" + std::to_string(t) + ".json");
+    const RunResult r = runSodt({"smooth", blobs, out, "--threads", std::to_string(t), "--report", report}, dir_);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    mesh[t - 1] = readFile(out);
+    json[t - 1] = readFile(report);
+    int used = t;
+#ifndef _OPENMP
+    used = 1;
+#endif
+    EXPECT_EQ(jsonNumber(json[t - 1], "threads"), used) << json[t - 1];
+    EXPECT_NE(r.out.find(" sweeps on " + std::to_string(used) + (used == 1 ? " thread " : " threads ")),
+              std::string::npos)
+        << r.out;
+    EXPECT_GT(jsonNumber(json[t - 1], "skipped_visits"), 0) << json[t - 1];
+    EXPECT_NE(r.out.find(" answered without solving"), std::string::npos) << r.out;
+  }
+  ASSERT_FALSE(mesh[0].empty());
+  EXPECT_TRUE(mesh[0] == mesh[1]) << "--threads 1 and --threads 2 wrote different meshes";
+  EXPECT_EQ(withoutMembers(json[0], {"seconds", "threads"}), withoutMembers(json[1], {"seconds", "threads"}));
+  EXPECT_EQ(withoutMembers(json[0], {}), json[0]) << "the helper keeps what it is not asked to drop";
+  EXPECT_LT(withoutMembers(json[0], {"seconds", "threads"}).size() + 20, json[0].size());
 }
 
 /// Vertex index triples of the faces of a mesh file, in file order.

@@ -47,6 +47,10 @@
 #                   sodt_flips.mlx on a quad cube (polygonal faces) and on a
 #                   tetrahedron with per-wedge texture coordinates fails the
 #                   same way, since flips would break them.
+#   threads         the shipped script with threads=1 and with threads=2 on the
+#                   mesh: both exit 0, log the threads used, and write
+#                   byte-identical meshes; threads=1025 fails like
+#                   bad-iterations, naming threads.
 # Set SODT_TEST_KEEP=1 to keep the work directory for inspection.
 set -u
 
@@ -73,7 +77,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 pass() { echo "PASS: $*"; exit 0; }
 
 case "$MODE" in
-  listed|smooth|selection|bad-iterations|classify|classify-select|feature|denoise|bad-epsilon|flips|bad-flips) ;;
+  listed|smooth|selection|bad-iterations|classify|classify-select|feature|denoise|bad-epsilon|flips|bad-flips|threads) ;;
   *) echo "unknown mode '$MODE'" >&2; exit 2 ;;
 esac
 [ -f "$PLUGIN" ] || fail "built plugin not found at '$PLUGIN' (build the filter_sodt target first)"
@@ -360,5 +364,23 @@ PLY
     expect_clean_failure "flips with wedge texture coordinates" "$WORK/out_wedge.ply" \
       "flips would scramble the per-wedge texture coordinates"
     pass "bad flip parameters, polygonal faces and wedge texture coordinates are rejected without a crash and without output"
+    ;;
+
+  threads)
+    need_file "$MESH" "bundled test mesh"
+    for n in 1 2; do
+      set_param "$SCRIPT" "$WORK/threads_$n.mlx" threads "$n"
+      run_server -i "$MESH" -o "$WORK/out_$n.ply" -s "$WORK/threads_$n.mlx"
+      [ "$RC" -eq 0 ] || fail "meshlabserver exited with $RC (threads=$n)"
+      [ -s "$WORK/out_$n.ply" ] || fail "no output mesh written (threads=$n)"
+      suffix=""; [ "$n" -eq 1 ] || suffix="s"
+      grep -q "LOG: 2 S-ODT: [0-9]* sweeps over [0-9]* active vertices with $n thread$suffix: " "$LOG" \
+        || fail "the log does not report $n thread$suffix used"
+    done
+    cmp "$WORK/out_1.ply" "$WORK/out_2.ply" || fail "threads=1 and threads=2 wrote different meshes"
+    set_param "$SCRIPT" "$WORK/threads_bad.mlx" threads 1025
+    run_server -i "$MESH" -o "$WORK/out_bad.ply" -s "$WORK/threads_bad.mlx"
+    expect_clean_failure "threads=1025" "$WORK/out_bad.ply" "threads must be in"
+    pass "threads=1 and threads=2 wrote byte-identical meshes; threads=1025 is rejected without output"
     ;;
 esac
