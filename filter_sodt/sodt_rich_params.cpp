@@ -159,8 +159,8 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m) {
       "percentile of the per-triangle smallest angle by more than this many degrees (0 to 180). "
       "0 runs every sweep."));
   list.addParam(RichInt(
-      kThreads, d.threads, "Worker threads (0: all cores); the result does not depend on it",
-      "Number of threads that sweep the vertices (0 to 1024; 0 uses every hardware thread, and a "
+      kThreads, d.threads, "Threads",
+      "Worker threads (0: all cores); the result does not depend on it. Number of threads that sweep the vertices (0 to 1024; 0 uses every hardware thread, and a "
       "build without OpenMP always uses one). The vertices are swept colour by colour, never two "
       "neighbours at once, so the result is bit-identical for every thread count: only the run "
       "time changes. The log reports the threads used."));
