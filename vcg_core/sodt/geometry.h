@@ -108,7 +108,7 @@ inline void tangentFrame(const Vec3& n, Vec3& s, Vec3& t) {
   else
     e[2] = 1;
   s = n ^ e;
-  s.Normalize();
+  s *= 1.0 / s.Norm();  // |n x e| >= sqrt(2/3) for a unit n and the least aligned axis e
   t = n ^ s;
 }
 

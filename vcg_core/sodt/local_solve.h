@@ -55,7 +55,7 @@ inline Vec3 starNormal(const Star& st) {
   }
   const double len = sum.Norm();
   if (!(len > 0) || !std::isfinite(len)) return Vec3(0, 0, 0);
-  return sum / len;
+  return sum * (1.0 / len);
 }
 
 /// D'_k = det(x_k - p, x_{k+1} - p, n): signed area of triangle k with the
@@ -81,26 +81,35 @@ inline double sodtEnergy(const Star& st, const Vec3& p, const Vec3& n) {
 /// area is D'_k = c_k - p.w_k with c_k = det(X_k, X_{k+1}, n); the cubic terms
 /// cancel because sum_k D'_k = C is constant (Appendix B), leaving a quadratic.
 inline SodtSystem sodtCoefficients(const Star& st, const Vec3& n, const Vec3& s, const Vec3& t) {
+  // In the frame (s, t, n) the products of Eq. 8 become planar: with
+  // X = (x, y, z), w_k = e_k x n has s.w = e_y and t.w = -e_x, and
+  // c_k = x_a y_b - y_a x_b. Each ring vertex is projected once.
   SodtSystem q;
   const std::size_t N = st.size();
   if (N == 0) return q;
-  const Vec3 first = st.ring[0] - st.center;
-  Vec3 Xa = first;
+  struct Local {
+    double x, y, z, len2;
+  };
+  const auto local = [&](const Vec3& P) {
+    const Vec3 X = P - st.center;
+    const Local l{s * X, t * X, n * X, X.SquaredNorm()};
+    return l;
+  };
+  const Local first = local(st.ring[0]);
+  Local a = first;
   for (std::size_t k = 0; k < N; ++k) {
-    const Vec3 Xb = k + 1 < N ? st.ring[k + 1] - st.center : first;
-    const Vec3 e = Xb - Xa;
-    const Vec3 w = e ^ n;  // det(s, e, n) = s . (e x n)
-    const Vec3 sum = Xa + Xb;
-    const double c = (Xa ^ Xb) * n;
-    const double ss = s * sum, ts = t * sum, sw = s * w, tw = t * w;
-    const double r = Xa.SquaredNorm() + Xb.SquaredNorm() - Xa * Xb;
+    const Local b = k + 1 < N ? local(st.ring[k + 1]) : first;
+    const double sw = b.y - a.y, tw = a.x - b.x;  // s.w and t.w
+    const double c = a.x * b.y - a.y * b.x;
+    const double ss = a.x + b.x, ts = a.y + b.y;
+    const double r = a.len2 + b.len2 - (a.x * b.x + a.y * b.y + a.z * b.z);
     q.C += c;
     q.E += ss * sw;
     q.F += ts * tw;
     q.G += ss * tw + ts * sw;
     q.H += ss * c + r * sw;
     q.I += ts * c + r * tw;
-    Xa = Xb;
+    a = b;
   }
   q.E += q.C;
   q.F += q.C;
@@ -124,8 +133,9 @@ inline LocalMove solveStar(const Star& st, const Vec3& normal) {
   // Relative test: a determinant at rounding level is singular in practice.
   const double scale = 4 * std::abs(q.E * q.F) + q.G * q.G;
   if (!(q.E > 0) || !(det > 1e-12 * scale)) return mv;
-  const double u = (2 * q.F * q.H - q.G * q.I) / det;
-  const double v = (2 * q.E * q.I - q.G * q.H) / det;
+  const double inv = 1.0 / det;
+  const double u = (2 * q.F * q.H - q.G * q.I) * inv;
+  const double v = (2 * q.E * q.I - q.G * q.H) * inv;
   const Vec3 target = st.center + s * u + t * v;
   if (!isFinite(target)) return mv;
   mv.ok = true;
