@@ -3,6 +3,7 @@
 // coplanar triangles is flipped when that raises the smaller angle of the pair.
 #pragma once
 
+#include "deviation.h"
 #include "geometry.h"
 #include "params.h"
 #include "topology.h"
@@ -27,7 +28,36 @@ struct FlipRules {
   double maxDihedralRad = 20.0 * kPi / 180.0;  ///< only flip edges whose faces' normals differ by less
   const std::vector<VertexClass>* cls = nullptr;  ///< feature edges (both ends crease/corner) are kept
   double minGainRad = 1e-9;                       ///< a flip must raise the pair's min angle by more
+  /// Deviation guard (may be null): the new edge and faces must stay within
+  /// the bound of the input surface, like the vertex moves.
+  const InputSurface* input = nullptr;
 };
+
+/// True when the surface made by flipping a-b into c-d stays within input's
+/// bound: the midpoint of c-d, the point of c-d closest to the old edge a-b
+/// (where the pair's two surfaces lie farthest apart) and the centroids of
+/// the new faces must each lie near the input patch of one of a, b, c, d.
+inline bool flipKeepsInput(const InputSurface& in, const std::vector<Vec3>& pos, int a, int b, int c, int d) {
+  const int vs[4] = {c, d, a, b};
+  bool any = false;
+  for (int v : vs) any = any || in.topo->kind[v] == VertexKind::Interior;
+  if (!any) return true;
+  // Closest point of segment c-d to line a-b.
+  const Vec3 u = pos[d] - pos[c], w = pos[b] - pos[a], r = pos[c] - pos[a];
+  const double uu = u * u, uw = u * w, ww = w * w, ur = u * r, wr = w * r;
+  const double den = uu * ww - uw * uw;
+  double t = den > 0 ? (uw * wr - ww * ur) / den : 0.5;
+  t = std::min(1.0, std::max(0.0, t));
+  const Vec3 pts[4] = {(pos[c] + pos[d]) * 0.5, pos[c] + u * t, (pos[a] + pos[d] + pos[c]) / 3.0,
+                       (pos[d] + pos[b] + pos[c]) / 3.0};
+  for (const Vec3& q : pts) {
+    bool ok = false;
+    for (int v : vs)
+      if (in.topo->kind[v] == VertexKind::Interior && in.near(v, q, -1)) { ok = true; break; }
+    if (!ok) return false;
+  }
+  return true;
+}
 
 /// One pass over all interior edges; flips every edge that qualifies, at most
 /// one edge per face per pass. An edge a-b shared by faces (a, b, c) and
@@ -96,6 +126,7 @@ inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRul
     const double before = pairMinAngle(pos[a], pos[b], pos[c], pos[b], pos[a], pos[d]);
     const double after = pairMinAngle(pos[a], pos[d], pos[c], pos[d], pos[b], pos[c]);
     if (!(after > before + rules.minGainRad)) continue;
+    if (rules.input && !flipKeepsInput(*rules.input, pos, a, b, c, d)) continue;
     faces.tri[f1] = {a, d, c};
     faces.tri[f2] = {d, b, c};
     touched[f1] = touched[f2] = 1;

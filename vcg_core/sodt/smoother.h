@@ -184,6 +184,7 @@ struct SodtSmoother {
     FlipRules flipRules;
     flipRules.maxDihedralRad = p.flipMaxDihedralDeg * kPi / 180.0;
     if (p.algorithm != Algorithm::Basic) flipRules.cls = &cls.cls;
+    if (deviationGuard) flipRules.input = &input;  // flips must keep the bound too
 
     // Best state seen, for keepBest (the input is state 0), and the last
     // quality, for toleranceDeg.
