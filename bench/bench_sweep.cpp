@@ -38,6 +38,7 @@ struct Options {
   std::string mesh;
   int sweeps = sodt::SodtParams{}.iterations;  ///< sweeps per timed run (the paper's 20); ms/sweep = run time / sweeps
   int repeats = 5;   ///< timed runs per method; the table shows their median
+  int threads = 1;   ///< SodtParams::threads (0: all cores)
 };
 
 /// One table row.
@@ -128,6 +129,7 @@ void benchScalar(const std::string& scalar, const Options& o, std::vector<Row>& 
   for (sodt::Guard g : {sodt::Guard::Quality, sodt::Guard::Fold, sodt::Guard::None}) {
     sodt::SodtParams p;
     p.guard = g;
+    p.threads = o.threads;
     sodt::SodtStats full;  // counters of the last o.sweeps-sweep call
     // Apply builds its ring topology and updates normals once per call.
     Row r = timeMethod(m, original, o, [&](int sweeps) {
@@ -139,9 +141,10 @@ void benchScalar(const std::string& scalar, const Options& o, std::vector<Row>& 
     char note[200];
     std::snprintf(note, sizeof note,
                   "of all vertex visits: %.1f%% moved (%.1f%% after backtracking), %.1f%% Laplacian fallback, "
-                  "%.1f%% rejected",
+                  "%.1f%% rejected; %.1f%% skipped (star unchanged)",
                   100.0 * (full.moved + full.backtracked) / visits, 100.0 * full.backtracked / visits,
-                  100.0 * full.fallbackMoves / visits, 100.0 * full.rejected / visits);
+                  100.0 * full.fallbackMoves / visits, 100.0 * full.rejected / visits,
+                  100.0 * full.skipped / visits);
     r.scalar = scalar;
     r.method = std::string("S-ODT Alg.1, guard ") + sodt::toString(g);
     r.note = note;
@@ -166,7 +169,8 @@ void benchScalar(const std::string& scalar, const Options& o, std::vector<Row>& 
 
 void usage() {
   std::fprintf(stderr,
-               "usage: sodt_bench [MESH.ply|MESH.off] [--sweeps N] [--repeats R]\n"
+               "usage: sodt_bench [MESH.ply|MESH.off] [--sweeps N] [--repeats R] [--threads T]\n"
+               "  --threads T: S-ODT worker threads (default 1; 0: all cores)\n"
                "  default mesh: %s if it exists, else %s\n",
                SODT_BENCH_DEFAULT_MESH, SODT_BENCH_FALLBACK_MESH);
 }
@@ -177,7 +181,13 @@ int main(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if ((a == "--sweeps" || a == "--repeats") && i + 1 < argc) {
+    if (a == "--threads" && i + 1 < argc) {
+      o.threads = std::atoi(argv[++i]);
+      if (o.threads < 0) {
+        usage();
+        return 2;
+      }
+    } else if ((a == "--sweeps" || a == "--repeats") && i + 1 < argc) {
       const int v = std::atoi(argv[++i]);
       if (v < 1) {
         usage();
@@ -207,8 +217,9 @@ int main(int argc, char** argv) {
   benchScalar<sodt::MeshD>("double", o, rows, nv, nf);
 
   const std::string name = o.mesh.substr(o.mesh.find_last_of('/') + 1);
-  std::printf("mesh %s: V=%d F=%d; ms/sweep = time of one call doing %d sweeps / %d, median and min of %d calls\n\n",
-              o.mesh.c_str(), nv, nf, o.sweeps, o.sweeps, o.repeats);
+  std::printf("mesh %s: V=%d F=%d; ms/sweep = time of one call doing %d sweeps / %d, median and min of %d calls; "
+              "S-ODT threads: %d\n\n",
+              o.mesh.c_str(), nv, nf, o.sweeps, o.sweeps, o.repeats, o.threads);
   std::printf("| mesh | V | F | scalar | method | ms/sweep (median) | ms/sweep (min) | ms for a 1-sweep call | notes |\n");
   std::printf("|---|---:|---:|---|---|---:|---:|---:|---|\n");
   for (const Row& r : rows)
