@@ -72,19 +72,38 @@ struct SodtSmoother {
     p.validate();
     SodtStats stats;
     const int nv = static_cast<int>(m.vert.size());
-    std::vector<Vec3> pos(nv);
     int nonFinite = 0, firstNonFinite = -1;
-    for (int i = 0; i < nv; ++i) {
-      if (m.vert[i].IsD()) continue;
-      const CoordType& c = m.vert[i].cP();
-      pos[i] = Vec3(c[0], c[1], c[2]);
-      if (!isFinite(pos[i]) && nonFinite++ == 0) firstNonFinite = i;
-    }
+    for (int i = 0; i < nv; ++i)
+      if (!m.vert[i].IsD() && !isFinite(toVec3(m.vert[i].cP())) && nonFinite++ == 0) firstNonFinite = i;
     if (nonFinite > 0)
       throw InvalidInput(std::to_string(nonFinite) + (nonFinite > 1 ? " vertices have" : " vertex has") +
                          " a non-finite coordinate (NaN or infinite; first: vertex " +
                          std::to_string(firstNonFinite) + "); the mesh was not changed");
-    RingTopology topo = buildRingTopology(m);  // rebuilt after edge flips
+
+    // The working order of the vertices is breadth-first over the faces, so
+    // that a vertex's neighbours lie near it in memory (meshes refined by
+    // subdivision or merged from parts store them far apart). Everything
+    // below indexes vertices in this order; the mesh is written back through
+    // `order` at the end.
+    FaceList faces = makeFaceList(m, p.selectedOnly);
+    std::vector<char> deleted(nv, 0);
+    for (int i = 0; i < nv; ++i) deleted[i] = m.vert[i].IsD();
+    const std::vector<int> order = breadthFirstOrder(faces, deleted);  // working index -> index in m.vert
+    std::vector<int> slot(nv);                                         // index in m.vert -> working index
+    for (int i = 0; i < nv; ++i) slot[order[i]] = i;
+    std::vector<Vec3> pos(nv, Vec3(0, 0, 0));
+    std::vector<char> selected(nv, 0);
+    for (int i = 0; i < nv; ++i) {
+      const auto& v = m.vert[order[i]];
+      deleted[i] = v.IsD();
+      selected[i] = v.IsS();
+      if (!deleted[i]) pos[i] = toVec3(v.cP());
+    }
+    for (std::size_t f = 0; f < faces.tri.size(); ++f)
+      if (faces.live[f])
+        for (int& v : faces.tri[f]) v = slot[v];
+    std::vector<int>().swap(slot);
+    RingTopology topo = buildRingTopology(faces, deleted);  // rebuilt after edge flips
     const double meanEdge = meanEdgeLength(m);
 
     Classification cls;
@@ -112,7 +131,7 @@ struct SodtSmoother {
     for (int i = 0; i < nv; ++i) {
       switch (topo.kind[i]) {
         case VertexKind::Interior:
-          if (cls.cls[i] != VertexClass::Corner && (!p.selectedOnly || m.vert[i].IsS())) active.push_back(i);
+          if (cls.cls[i] != VertexClass::Corner && (!p.selectedOnly || selected[i])) active.push_back(i);
           break;
         case VertexKind::Boundary: ++stats.fixedBoundary; break;
         case VertexKind::NonManifold: ++stats.fixedNonManifold; break;
@@ -125,12 +144,11 @@ struct SodtSmoother {
     // 90 degrees of it, so no face ends up inverted however far it drifts.
     std::vector<Vec3> faceNormal;
     if (p.guard != Guard::None || p.keepBest) {
-      faceNormal.assign(m.face.size(), Vec3(0, 0, 0));
-      for (std::size_t f = 0; f < m.face.size(); ++f) {
-        const auto& F = m.face[f];
-        if (F.IsD()) continue;
-        const auto vi = [&](int j) { return static_cast<int>(F.cV(j) - &m.vert[0]); };
-        const Vec3 a = doubleAreaVector(pos[vi(0)], pos[vi(1)], pos[vi(2)]);
+      faceNormal.assign(faces.tri.size(), Vec3(0, 0, 0));
+      for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+        if (!faces.live[f]) continue;
+        const std::array<int, 3>& t = faces.tri[f];
+        const Vec3 a = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
         const double len = a.Norm();
         if (len > 0 && std::isfinite(len)) faceNormal[f] = a / len;
       }
@@ -155,12 +173,6 @@ struct SodtSmoother {
       }
     }
 
-    FaceList faces = makeFaceList(m, p.selectedOnly);
-    std::vector<char> vertexDeleted;
-    if (p.flips) {
-      vertexDeleted.assign(nv, 0);
-      for (int i = 0; i < nv; ++i) vertexDeleted[i] = m.vert[i].IsD();
-    }
     // The deviation guard reads the input mesh. Flips change the working
     // connectivity, so only then does the input need copies of its own.
     const bool deviationGuard =
@@ -268,7 +280,7 @@ struct SodtSmoother {
         }
         if (flipped > 0) {
           stats.flips += flipped;
-          topo = buildRingTopology(faces, vertexDeleted);
+          topo = buildRingTopology(faces, deleted);
           plan = colourVertices(topo, active);
           for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
           for (Scratch& s : scratch) s.reserve(maxValence);
@@ -311,7 +323,7 @@ struct SodtSmoother {
       stats.returnedSweep = bestSweep;
     }
     // The mesh is written only here, positions and faces together.
-    if (stats.flips > 0) writeFaces(m, faces);
+    if (stats.flips > 0) writeFaces(m, faces, order);
     if (stats.flips > 0) {
       // Flips invalidate any adjacency the caller had computed.
       if (vcg::tri::HasFFAdjacency(m)) vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
@@ -319,11 +331,18 @@ struct SodtSmoother {
     }
 
     for (int i : active)
-      m.vert[i].P() = CoordType(ScalarType(pos[i][0]), ScalarType(pos[i][1]), ScalarType(pos[i][2]));
+      m.vert[order[i]].P() = CoordType(ScalarType(pos[i][0]), ScalarType(pos[i][1]), ScalarType(pos[i][2]));
     vcg::tri::UpdateBounding<MeshType>::Box(m);
     if (vcg::tri::HasPerFaceNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerFaceNormalized(m);
     if (vcg::tri::HasPerVertexNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFace(m);
-    if (classes) *classes = std::move(cls);
+    if (classes) {
+      // Back to the mesh's vertex order.
+      *classes = cls;
+      for (int i = 0; i < nv; ++i) {
+        classes->cls[order[i]] = cls.cls[i];
+        classes->creaseDir[order[i]] = cls.creaseDir[i];
+      }
+    }
     return stats;
   }
 
@@ -380,12 +399,14 @@ struct SodtSmoother {
     return q;
   }
 
-  /// Writes the vertex references of the face list back into m.
-  static void writeFaces(MeshType& m, const FaceList& fl) {
+  /// Writes the vertex references of the face list (working indices) back into m.
+  static void writeFaces(MeshType& m, const FaceList& fl, const std::vector<int>& order) {
     for (std::size_t f = 0; f < m.face.size(); ++f)
       if (fl.live[f])
-        for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[fl.tri[f][j]];
+        for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[order[fl.tri[f][j]]];
   }
+
+  static Vec3 toVec3(const CoordType& c) { return Vec3(c[0], c[1], c[2]); }
 
   /// Read-only state shared by all visits of a run.
   struct Context {

@@ -206,6 +206,49 @@ inline SweepPlan colourVertices(const RingTopology& topo, const std::vector<int>
   return plan;
 }
 
+/// The vertices in breadth-first order over the faces: entry i is the
+/// original index of the i-th vertex. Each connected part is walked from its
+/// lowest-index vertex, neighbours in face order; deleted vertices go last.
+/// A one-ring then lies within a few breadth-first layers, close in memory,
+/// whatever order the mesh stores its vertices in (subdivision and merged
+/// parts scatter them), and the order depends only on the connectivity.
+inline std::vector<int> breadthFirstOrder(const FaceList& faces, const std::vector<char>& deleted) {
+  const int nv = static_cast<int>(deleted.size());
+  std::vector<int> begin(nv + 1, 0);
+  for (std::size_t f = 0; f < faces.tri.size(); ++f)
+    if (faces.live[f])
+      for (int v : faces.tri[f]) ++begin[v + 1];
+  for (int i = 0; i < nv; ++i) begin[i + 1] += begin[i];
+  std::vector<int> incident(begin[nv]);
+  {
+    std::vector<int> fill(begin.begin(), begin.end() - 1);
+    for (std::size_t f = 0; f < faces.tri.size(); ++f)
+      if (faces.live[f])
+        for (int v : faces.tri[f]) incident[fill[v]++] = static_cast<int>(f);
+  }
+  std::vector<int> order;
+  order.reserve(nv);
+  std::vector<char> seen(deleted.begin(), deleted.end());
+  for (int seed = 0; seed < nv; ++seed) {
+    if (seen[seed]) continue;
+    seen[seed] = 1;
+    std::size_t head = order.size();
+    order.push_back(seed);
+    for (; head < order.size(); ++head) {
+      const int v = order[head];
+      for (int k = begin[v]; k < begin[v + 1]; ++k)
+        for (int u : faces.tri[incident[k]])
+          if (!seen[u]) {
+            seen[u] = 1;
+            order.push_back(u);
+          }
+    }
+  }
+  for (int i = 0; i < nv; ++i)
+    if (deleted[i]) order.push_back(i);
+  return order;
+}
+
 /// Builds the ring topology of m (see the FaceList overload). Needs no vcg adjacency.
 template <class MeshType>
 RingTopology buildRingTopology(const MeshType& m) {
