@@ -90,7 +90,7 @@ double meanEdgeLength(const MeshType& m) {
 /// Classification of every vertex of a mesh.
 struct Classification {
   std::vector<VertexClass> cls;  ///< per vertex (index in m.vert); Fixed for non-interior vertices
-  std::vector<Vec3> creaseDir;   ///< unit crease direction e3 for Crease vertices
+  std::vector<Vec3> creaseDir;   ///< unit crease direction e3 for Crease vertices (zero for the others)
   int count[4] = {0, 0, 0, 0};   ///< vertices per class, indexed by VertexClass
 
   int smooth() const { return count[0]; }

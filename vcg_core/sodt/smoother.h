@@ -108,8 +108,7 @@ struct SodtSmoother {
 
     Classification cls;
     if (p.algorithm == Algorithm::Basic || p.algorithm == Algorithm::Odt || p.algorithm == Algorithm::Laplacian) {
-      cls.cls.assign(nv, VertexClass::Fixed);
-      cls.creaseDir.assign(nv, Vec3(0, 0, 0));
+      cls.cls.assign(nv, VertexClass::Fixed);  // no crease directions: there are no creases
       for (int i = 0; i < nv; ++i) {
         if (topo.kind[i] == VertexKind::Deleted) continue;
         cls.cls[i] = topo.kind[i] == VertexKind::Interior ? VertexClass::Smooth : VertexClass::Fixed;
@@ -338,10 +337,11 @@ struct SodtSmoother {
     if (classes) {
       // Back to the mesh's vertex order.
       *classes = cls;
-      for (int i = 0; i < nv; ++i) {
-        classes->cls[order[i]] = cls.cls[i];
-        classes->creaseDir[order[i]] = cls.creaseDir[i];
-      }
+      for (int i = 0; i < nv; ++i) classes->cls[order[i]] = cls.cls[i];
+      if (!cls.creaseDir.empty())
+        for (int i = 0; i < nv; ++i) classes->creaseDir[order[i]] = cls.creaseDir[i];
+      else
+        classes->creaseDir.assign(nv, Vec3(0, 0, 0));
     }
     return stats;
   }
