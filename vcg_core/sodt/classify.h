@@ -103,25 +103,27 @@ struct Classification {
 /// topology). Vertices that are not Interior (border, non-manifold, isolated,
 /// deleted) are Fixed; deleted ones are not counted.
 inline Classification classifyRings(const RingTopology& topo, const std::vector<Vec3>& pos, double sigma,
-                                    double epsilon, double eta) {
+                                    double epsilon, double eta, int threads = 1) {
   Classification c;
-  const std::size_t nv = topo.kind.size();
+  const long nv = static_cast<long>(topo.kind.size());
   c.cls.assign(nv, VertexClass::Fixed);
   c.creaseDir.assign(nv, Vec3(0, 0, 0));
-  std::vector<Vec3> ring;
-  for (std::size_t i = 0; i < nv; ++i) {
-    if (topo.kind[i] == VertexKind::Deleted) continue;
-    if (topo.kind[i] != VertexKind::Interior) {
-      ++c.count[3];
-      continue;
-    }
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+#else
+  (void)threads;
+#endif
+  for (long i = 0; i < nv; ++i) {
+    if (topo.kind[i] != VertexKind::Interior) continue;
+    static thread_local std::vector<Vec3> ring;  // reused by each thread
     ring.clear();
     for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k) ring.push_back(pos[topo.ringIdx[k]]);
     const TensorClass t = classifyStar(pos[i], ring, sigma, epsilon, eta);
     c.cls[i] = t.cls;
     c.creaseDir[i] = t.creaseDir;
-    ++c.count[static_cast<int>(t.cls)];
   }
+  for (long i = 0; i < nv; ++i)
+    if (topo.kind[i] != VertexKind::Deleted) ++c.count[static_cast<int>(c.cls[i])];
   return c;
 }
 

@@ -54,9 +54,15 @@ inline FittedFrame principalFit(const std::vector<std::pair<Vec3, double>>& pts,
 }
 
 /// Area-weighted unit normal of every Interior vertex (zero for the others).
-inline std::vector<Vec3> vertexNormals(const RingTopology& topo, const std::vector<Vec3>& pos) {
+inline std::vector<Vec3> vertexNormals(const RingTopology& topo, const std::vector<Vec3>& pos, int threads = 1) {
   std::vector<Vec3> nrm(pos.size(), Vec3(0, 0, 0));
-  for (std::size_t i = 0; i < pos.size(); ++i) {
+  const long nv = static_cast<long>(pos.size());
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+#else
+  (void)threads;
+#endif
+  for (long i = 0; i < nv; ++i) {
     if (topo.kind[i] != VertexKind::Interior) continue;
     const int b = topo.ringBegin[i], n = topo.ringSize(static_cast<int>(i));
     Vec3 s(0, 0, 0);
@@ -83,7 +89,9 @@ inline FittedFrame fitPlane(int i, const RingTopology& topo, const std::vector<V
   FittedFrame f;
   const Vec3& n0 = nrm[i];
   if (n0.SquaredNorm() == 0) return f;
-  std::vector<std::pair<Vec3, double>> pts;
+  // Reused by each thread: this runs once per vertex, possibly in parallel.
+  static thread_local std::vector<std::pair<Vec3, double>> pts;
+  pts.clear();
   pts.emplace_back(pos[i], 1.0);
   for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k) {
     const int j = topo.ringIdx[k];
@@ -109,7 +117,9 @@ inline FittedFrame fitCreaseLine(int i, const Vec3& e, const RingTopology& topo,
     const Vec3 d = x - pos[i];
     return (d - e * (d * e)).Norm() / std::abs(along);
   };
-  std::vector<std::pair<Vec3, double>> pts{{pos[i], 1.0}};
+  static thread_local std::vector<std::pair<Vec3, double>> pts;
+  pts.clear();
+  pts.emplace_back(pos[i], 1.0);
   int sides = 0;
   for (double sign : {1.0, -1.0}) {
     int first = -1;

@@ -106,6 +106,8 @@ struct SodtSmoother {
     RingTopology topo = buildRingTopology(faces, deleted);  // rebuilt after edge flips
     const double meanEdge = meanEdgeLength(m);
 
+    const int threads = resolveThreads(p.threads);
+    stats.threads = threads;
     Classification cls;
     if (p.algorithm == Algorithm::Basic || p.algorithm == Algorithm::Odt || p.algorithm == Algorithm::Laplacian) {
       cls.cls.assign(nv, VertexClass::Fixed);  // no crease directions: there are no creases
@@ -115,12 +117,12 @@ struct SodtSmoother {
         ++cls.count[static_cast<int>(cls.cls[i])];
       }
     } else if (p.algorithm == Algorithm::Feature) {
-      cls = classifyRings(topo, pos, meanEdge, p.epsilon, p.eta);
+      cls = classifyRings(topo, pos, meanEdge, p.epsilon, p.eta, threads);
     } else {
       // Noise turns single spikes into false corners and creases: classify the
       // input after projecting every vertex on its fitted plane (a vertex on a
       // true crease or corner has too few agreeing neighbours to fit and stays).
-      cls = classifyRings(topo, projectOnFittedPlanes(topo, pos), meanEdge, p.epsilon, p.eta);
+      cls = classifyRings(topo, projectOnFittedPlanes(topo, pos, threads), meanEdge, p.epsilon, p.eta, threads);
     }
     stats.smoothVertices = cls.smooth();
     stats.creaseVertices = cls.crease();
@@ -162,9 +164,14 @@ struct SodtSmoother {
       // to pre-smoothed neighbours much less. Crease lines use the input, whose
       // crease vertices the projections leave (nearly) in place anyway.
       std::vector<Vec3> src = pos;
-      for (int k = 0; k < kDenoisePrePasses; ++k) src = projectOnFittedPlanes(topo, src);
-      const std::vector<Vec3> nrm = vertexNormals(topo, src);
-      for (int i : active) {
+      for (int k = 0; k < kDenoisePrePasses; ++k) src = projectOnFittedPlanes(topo, src, threads);
+      const std::vector<Vec3> nrm = vertexNormals(topo, src, threads);
+      const long na = static_cast<long>(active.size());
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+#endif
+      for (long a = 0; a < na; ++a) {
+        const int i = active[a];
         if (cls.cls[i] == VertexClass::Smooth)
           fit[i] = fitPlane(i, topo, src, nrm);
         else if (cls.cls[i] == VertexClass::Crease)
@@ -213,8 +220,6 @@ struct SodtSmoother {
     // (and of data fixed for the run), so a visit that moved nothing need not
     // be repeated until something in its star moves: it is answered from the
     // previous outcome. Both keep the result independent of the thread count.
-    const int threads = resolveThreads(p.threads);
-    stats.threads = threads;
     SweepPlan plan = colourVertices(topo, active);
     std::vector<int> lastVisit(nv, -1), movedAt(nv, -1);
     std::vector<Outcome> lastOutcome(nv, Outcome::Moved);
@@ -352,10 +357,15 @@ struct SodtSmoother {
 
   /// Every interior vertex projected on its weighted least-squares plane
   /// (Eq. 12-13) computed from the given positions; others unchanged.
-  static std::vector<Vec3> projectOnFittedPlanes(const RingTopology& topo, const std::vector<Vec3>& pos) {
-    const std::vector<Vec3> nrm = vertexNormals(topo, pos);
+  static std::vector<Vec3> projectOnFittedPlanes(const RingTopology& topo, const std::vector<Vec3>& pos,
+                                                 int threads) {
+    const std::vector<Vec3> nrm = vertexNormals(topo, pos, threads);
     std::vector<Vec3> out = pos;
-    for (std::size_t i = 0; i < pos.size(); ++i) {
+    const long nv = static_cast<long>(pos.size());
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+#endif
+    for (long i = 0; i < nv; ++i) {
       if (topo.kind[i] != VertexKind::Interior) continue;
       const FittedFrame f = fitPlane(static_cast<int>(i), topo, pos, nrm);
       if (f.ok) out[i] = pos[i] - f.dir * ((pos[i] - f.point) * f.dir);
