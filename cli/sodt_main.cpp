@@ -12,9 +12,8 @@
 #include <sodt/params.h>
 #include <sodt/smoother.h>
 
-#include <vcg/complex/append.h>
-
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -488,11 +487,14 @@ struct Distance {
   bool lowerBound = false; ///< the mesh left the reference's neighbourhood: vertices only
 };
 
-/// Samples both surfaces (sodt::surfaceDistance) unless a vertex of m lies
-/// more than one diagonal outside ref's bounding box, as after a diverged
-/// unguarded run: then sampling says nothing more and can take very long,
-/// and the vertex distance to the box is reported as a lower bound.
-Distance distanceTo(const MeshD& m, const MeshD& ref) {
+/// Samples both surfaces (sodt::surfaceDistanceInPlace: no copy of a large
+/// mesh; it updates their bounding boxes, face normals and face marks, which
+/// no file written afterwards contains) unless a vertex of m lies more than
+/// one diagonal outside ref's bounding box, as after a diverged unguarded
+/// run: then sampling says nothing more and can take very long, and the
+/// vertex distance to the box is reported as a lower bound.
+template <class RefMesh>
+Distance distanceTo(MeshD& m, RefMesh& ref) {
   vcg::Box3d box;
   for (const auto& v : ref.vert)
     if (!v.IsD()) box.Add(v.cP());
@@ -514,10 +516,53 @@ Distance distanceTo(const MeshD& m, const MeshD& ref) {
     r.lowerBound = true;
     return r;
   }
-  const sodt::DistanceStats d = sodt::surfaceDistance(m, ref);
+  const sodt::DistanceStats d = sodt::surfaceDistanceInPlace(m, ref);
   r.hausdorff = d.maxRel;
   r.mean = d.meanRel;
   return r;
+}
+
+/// What the measures of the output need from the input (distance and
+/// inverted faces), kept through the smoothing in a fraction of the memory
+/// of a copy of the mesh: 24 bytes per vertex, plus 12 per face when the
+/// smoother may change the faces. The reference mesh is rebuilt from it only
+/// after the smoothing, when the smoother's working memory is freed.
+struct InputGeometry {
+  std::vector<vcg::Point3d> positions;   ///< every vertex of the input, in order
+  std::vector<std::array<int, 3>> faces;  ///< the input's faces when facesKept
+  bool facesKept = false;                 ///< else the output has the input's faces
+};
+
+/// Keeps m's positions, and its faces when `facesMayChange` (edge flips).
+/// m must be compact, as loadMesh leaves it.
+InputGeometry keepInput(const MeshD& m, bool facesMayChange) {
+  InputGeometry g;
+  g.positions.reserve(m.vert.size());
+  for (const auto& v : m.vert) g.positions.push_back(v.cP());
+  g.facesKept = facesMayChange;
+  if (facesMayChange) {
+    g.faces.reserve(m.face.size());
+    for (const auto& f : m.face)
+      g.faces.push_back({{int(f.cV(0) - &m.vert[0]), int(f.cV(1) - &m.vert[0]), int(f.cV(2) - &m.vert[0])}});
+  }
+  return g;
+}
+
+/// The input mesh for the measures, as its copy would be: its vertices in
+/// order, with the faces of `input` or else those of m (which the smoother
+/// left unchanged). Frees input's arrays as it goes.
+void rebuildInput(InputGeometry& input, const MeshD& m, sodt::SampleMesh& ref) {
+  ref.Clear();
+  vcg::tri::Allocator<sodt::SampleMesh>::AddVertices(ref, input.positions.size());
+  for (std::size_t i = 0; i < input.positions.size(); ++i) ref.vert[i].P() = input.positions[i];
+  std::vector<vcg::Point3d>().swap(input.positions);
+  const std::size_t nf = input.facesKept ? input.faces.size() : m.face.size();
+  vcg::tri::Allocator<sodt::SampleMesh>::AddFaces(ref, nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int j = 0; j < 3; ++j)
+      ref.face[f].V(j) =
+          &ref.vert[input.facesKept ? std::size_t(input.faces[f][j]) : std::size_t(m.face[f].cV(j) - &m.vert[0])];
+  std::vector<std::array<int, 3>>().swap(input.faces);
 }
 
 /// Writes hausdorff_rel, mean_distance_rel (null when unknown) and hausdorff_is_lower_bound.
@@ -866,8 +911,9 @@ int runSmooth(const std::vector<std::string>& args) {
 
   gStatus.draw("measuring input...");
   const Measures before = measure(m);
-  MeshD input;
-  vcg::tri::Append<MeshD, MeshD>::MeshCopy(input, m);
+  // Not a copy of the mesh: with the smoother's working memory that would
+  // more than double the peak on a large mesh.
+  InputGeometry input = keepInput(m, o.params.flips);
   gStatus.end(false);
 
   progressCallback(0, ("S-ODT sweep 0/" + std::to_string(o.params.iterations)).c_str());
@@ -880,8 +926,14 @@ int runSmooth(const std::vector<std::string>& args) {
 
   gStatus.draw("measuring output...");
   const Measures after = measure(m);
-  const Distance dist = distanceTo(m, input);
-  const long long inverted = sodt::countInvertedFaces(m, input);
+  Distance dist;
+  long long inverted = -1;
+  {
+    sodt::SampleMesh ref;  // freed before the save, which reads OUT back
+    rebuildInput(input, m, ref);
+    dist = distanceTo(m, ref);
+    inverted = sodt::countInvertedFaces(m, ref);
+  }
   gStatus.end(false);
 
   gStatus.draw("writing " + baseName(o.out) + "...");

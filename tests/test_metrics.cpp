@@ -6,6 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
+#include <utility>
+#include <vector>
+
 using Mesh = sodt::MeshD;
 
 TEST(Metrics, AnglesOfKnownTriangles) {
@@ -74,4 +79,100 @@ TEST(Metrics, InvertedFacesAgainstReference) {
   Mesh other;
   sodt_test::makeGrid(other, 5, 0.0, 1);
   EXPECT_EQ(sodt::countInvertedFaces(other, ref), -1);
+}
+
+namespace {
+
+/// One direction of the distance as surfaceDistance measured it before it
+/// had its own sampler: vcglib's HausdorffSampler on MeshD copies.
+std::pair<double, double> vcgOneSided(Mesh& from, Mesh& to, double bound) {
+  using Sampler = vcg::tri::HausdorffSampler<Mesh>;
+  Sampler hs(&to);
+  hs.dist_upper_bound = bound;
+  using SS = vcg::tri::SurfaceSampling<Mesh, Sampler>;
+  SS::SamplingRandomGenerator().initialize(20130101u);
+  SS::AllVertex(from, hs, false);
+  SS::Montecarlo(from, hs, std::min(sodt::kMaxFaceSamples, std::max(10000, 2 * from.fn)));
+  return {double(hs.getMaxDist()), double(hs.getMeanDist())};
+}
+
+/// Same bits (NaN equals NaN).
+bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+}  // namespace
+
+TEST(Metrics, DistanceSamplerMatchesVcgHausdorffSampler) {
+  Mesh a, b;
+  sodt_test::makeSphere(a, 3);
+  sodt_test::makeSphere(b, 4);
+  sodt_test::jitterOnSphere(b, 0.02, 7);
+  for (auto& v : b.vert) v.P() *= 1.01;
+  Mesh A, B;
+  sodt::detail::copyToDouble(a, A);
+  sodt::detail::copyToDouble(b, B);
+  sodt::SampleMesh As, Bs;
+  sodt::detail::copyLive(a, As);
+  sodt::detail::copyLive(b, Bs);
+  const double bound = 10.0;
+  const auto expected = vcgOneSided(A, B, bound);
+  const auto ab = sodt::detail::oneSidedDistance(As, Bs, bound);
+  EXPECT_TRUE(sameBits(ab.first, expected.first)) << ab.first << " vs " << expected.first;
+  EXPECT_TRUE(sameBits(ab.second, expected.second)) << ab.second << " vs " << expected.second;
+  const auto expectedBa = vcgOneSided(B, A, bound);
+  vcg::tri::UpdateBounding<Mesh>::Box(a);
+  vcg::tri::UpdateBounding<Mesh>::Box(b);
+  const auto ba = sodt::detail::oneSidedDistance(b, a, bound);  // MeshD in place, no copy
+  EXPECT_TRUE(sameBits(ba.first, expectedBa.first)) << ba.first << " vs " << expectedBa.first;
+  EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second;
+}
+
+TEST(Metrics, SurfaceDistanceInPlaceEqualsCopying) {
+  Mesh a, b;
+  sodt_test::makeSphere(a, 4);
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(b, a);
+  sodt_test::jitterOnSphere(b, 0.03, 11);
+  for (auto& v : b.vert) v.P()[0] += 0.01;
+  for (std::size_t i = 0; i < a.vert.size(); ++i) {
+    a.vert[i].Q() = float(i);
+    a.vert[i].C() = vcg::Color4b(1, 2, 3, 4);
+  }
+  a.vert[3].SetS();
+  const std::vector<Mesh::VertexType> vertsBefore(a.vert.begin(), a.vert.end());
+  const auto check = [](Mesh& x, auto& y, const char* what) {
+    const sodt::DistanceStats copying = sodt::surfaceDistance(x, y);
+    const sodt::DistanceStats inPlace = sodt::surfaceDistanceInPlace(x, y);
+    EXPECT_TRUE(std::isfinite(copying.maxRel) && copying.maxRel > 0) << what;
+    EXPECT_TRUE(sameBits(inPlace.maxRel, copying.maxRel)) << what << ": " << inPlace.maxRel << " vs " << copying.maxRel;
+    EXPECT_TRUE(sameBits(inPlace.meanRel, copying.meanRel)) << what << ": " << inPlace.meanRel << " vs " << copying.meanRel;
+  };
+  check(a, b, "both sampled in place");
+  // the sampled mesh keeps what a file would store
+  for (std::size_t i = 0; i < a.vert.size(); ++i) {
+    EXPECT_EQ(a.vert[i].cP(), vertsBefore[i].cP());
+    EXPECT_EQ(a.vert[i].cQ(), vertsBefore[i].cQ());
+    EXPECT_EQ(a.vert[i].cC(), vertsBefore[i].cC());
+    EXPECT_EQ(a.vert[i].cFlags(), vertsBefore[i].cFlags());
+  }
+  sodt::SampleMesh bs;
+  sodt::detail::copyLive(b, bs);
+  check(a, bs, "reference as SampleMesh");
+  // an unreferenced vertex and a deleted face: those meshes are copied
+  Mesh c;
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(c, b);
+  vcg::tri::Allocator<Mesh>::AddVertices(c, 1);
+  c.vert.back().P() = vcg::Point3d(5, 5, 5);
+  EXPECT_FALSE(sodt::detail::samplesAsIs(c));
+  check(a, c, "unreferenced vertex");
+  check(c, a, "unreferenced vertex, other way");
+  vcg::tri::Allocator<Mesh>::DeleteFace(c, c.face[0]);
+  EXPECT_FALSE(sodt::detail::samplesAsIs(c));
+  check(a, c, "deleted face");
+  // far apart: the lower bound, NaN mean
+  Mesh far;
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(far, a);
+  for (auto& v : far.vert) v.P()[1] += 100;
+  const sodt::DistanceStats copying = sodt::surfaceDistance(far, b);
+  const sodt::DistanceStats inPlace = sodt::surfaceDistanceInPlace(far, b);
+  EXPECT_TRUE(std::isnan(inPlace.meanRel));
+  EXPECT_TRUE(sameBits(inPlace.maxRel, copying.maxRel));
 }

@@ -695,12 +695,26 @@ void writeMesh(const std::string& target, const std::string& file, const M& src,
   if (r != 0) throw IoError(quoted(target) + ": cannot write PLY: " + io::ExporterPLY<M>::ErrorMsg(r));
 }
 
+/// What verifyWritten reads a written file into: positions, triangles, and
+/// the colour and flags that the readers set. About a third of the memory of
+/// a MeshD: the mesh being saved is alive at the same time, and a second
+/// MeshD would double the peak of a large save.
+struct VerifyMeshTypes {
+  class Vertex;
+  class Face;
+  struct UsedTypes : public vcg::UsedTypes<vcg::Use<Vertex>::AsVertexType, vcg::Use<Face>::AsFaceType> {};
+  class Vertex : public vcg::Vertex<UsedTypes, vcg::vertex::Coord3d, vcg::vertex::Color4b, vcg::vertex::BitFlags> {};
+  class Face : public vcg::Face<UsedTypes, vcg::face::VertexRef, vcg::face::BitFlags> {};
+  class Mesh : public vcg::tri::TriMesh<std::vector<Vertex>, std::vector<Face>> {};
+};
+using VerifyMesh = VerifyMeshTypes::Mesh;
+
 /// Reads a written file back and compares the counts: catches a write that
 /// failed when the C library flushed its last buffer on close.
 template <class M>
 void verifyWritten(const std::string& target, const std::string& file, const M& src) {
   const MeshFormat fmt = meshFormatFromPath(target);
-  M back;
+  VerifyMesh back;
   LoadInfo info;
   try {
     if (fmt == MeshFormat::Ply)

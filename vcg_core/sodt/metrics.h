@@ -46,6 +46,24 @@ struct DistanceStats {
 constexpr int kMaxVertexSamples = 250000;
 constexpr int kMaxFaceSamples = 500000;
 
+/// Beyond this many reference diagonals, surfaceDistance reports a bound.
+constexpr double kFarDiagonals = 10.0;
+
+/// Positions and triangles in double and nothing else (no vertex normal,
+/// quality, colour or adjacency): the meshes surfaceDistance samples, less
+/// than half the memory of a MeshD. The face normals and marks are there for
+/// vcglib's closest-face search.
+struct SampleMeshTypes {
+  class Vertex;
+  class Face;
+  struct UsedTypes : public vcg::UsedTypes<vcg::Use<Vertex>::AsVertexType, vcg::Use<Face>::AsFaceType> {};
+  class Vertex : public vcg::Vertex<UsedTypes, vcg::vertex::Coord3d, vcg::vertex::BitFlags> {};
+  class Face : public vcg::Face<UsedTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::Mark,
+                                vcg::face::BitFlags> {};
+  class Mesh : public vcg::tri::TriMesh<std::vector<Vertex>, std::vector<Face>> {};
+};
+using SampleMesh = SampleMeshTypes::Mesh;
+
 namespace detail {
 
 template <class MeshType>
@@ -53,9 +71,10 @@ Vec3 toVec3(const typename MeshType::CoordType& c) {
   return Vec3(c[0], c[1], c[2]);
 }
 
-/// Copies the live vertices and faces of any vcg mesh into a double mesh.
-template <class MeshType>
-void copyToDouble(const MeshType& src, MeshD& dst) {
+/// Copies the live vertices and faces of any vcg mesh into a double mesh
+/// (MeshD or SampleMesh) and computes its bounding box.
+template <class MeshType, class DstMesh>
+void copyLive(const MeshType& src, DstMesh& dst) {
   dst.Clear();
   // Only vertices of live faces are surface points (when there are faces):
   // an unreferenced vertex far from a tiny surface would also wreck the
@@ -71,14 +90,13 @@ void copyToDouble(const MeshType& src, MeshD& dst) {
   int nv = 0;
   for (std::size_t i = 0; i < src.vert.size(); ++i)
     if (!src.vert[i].IsD() && (used[i] || !anyFace)) remap[i] = nv++;
-  auto vi = vcg::tri::Allocator<MeshD>::AddVertices(dst, nv);
+  vcg::tri::Allocator<DstMesh>::AddVertices(dst, nv);
   for (std::size_t i = 0; i < src.vert.size(); ++i)
     if (remap[i] >= 0) dst.vert[remap[i]].P() = toVec3<MeshType>(src.vert[i].cP());
-  (void)vi;
   int nf = 0;
   for (const auto& f : src.face)
     if (!f.IsD()) ++nf;
-  vcg::tri::Allocator<MeshD>::AddFaces(dst, nf);
+  vcg::tri::Allocator<DstMesh>::AddFaces(dst, nf);
   int k = 0;
   for (const auto& f : src.face) {
     if (f.IsD()) continue;
@@ -86,36 +104,133 @@ void copyToDouble(const MeshType& src, MeshD& dst) {
       dst.face[k].V(j) = &dst.vert[remap[f.cV(j) - &src.vert[0]]];
     ++k;
   }
-  vcg::tri::UpdateBounding<MeshD>::Box(dst);
+  vcg::tri::UpdateBounding<DstMesh>::Box(dst);
+}
+
+/// Copies the live vertices and faces of any vcg mesh into a double mesh,
+/// with its bounding box and normals.
+template <class MeshType>
+void copyToDouble(const MeshType& src, MeshD& dst) {
+  copyLive(src, dst);
   vcg::tri::UpdateNormal<MeshD>::PerVertexNormalizedPerFace(dst);
 }
 
+/// True when copyLive would copy m as it is: no deleted face (vcglib's face
+/// grid would index them) and, when there are faces, no live vertex outside
+/// them. surfaceDistanceInPlace samples such a mesh without copying it.
+template <class MeshType>
+bool samplesAsIs(const MeshType& m) {
+  if (m.fn != static_cast<int>(m.face.size())) return false;
+  if (m.face.empty()) return true;
+  std::vector<char> used(m.vert.size(), 0);
+  for (const auto& f : m.face)
+    for (int j = 0; j < 3; ++j) used[f.cV(j) - &m.vert[0]] = 1;
+  for (std::size_t i = 0; i < m.vert.size(); ++i)
+    if (!m.vert[i].IsD() && !used[i]) return false;
+  return true;
+}
+
 /// Sum of the face areas.
-inline double totalArea(const MeshD& m) {
+template <class MeshType>
+double totalArea(const MeshType& m) {
   double a = 0;
   for (const auto& f : m.face)
-    if (!f.IsD()) a += 0.5 * doubleAreaVector(f.cP(0), f.cP(1), f.cP(2)).Norm();
+    if (!f.IsD()) a += 0.5 * doubleAreaVector(toVec3<MeshType>(f.cP(0)), toVec3<MeshType>(f.cP(1)),
+                                              toVec3<MeshType>(f.cP(2))).Norm();
   return a;
 }
 
 /// A copy of m's vertices without faces: the sampler then measures
 /// distances to the points, which is all a surface without area has.
-inline void pointsOnly(const MeshD& m, MeshD& out) {
+template <class MeshType>
+void pointsOnly(const MeshType& m, SampleMesh& out) {
   out.Clear();
-  vcg::tri::Allocator<MeshD>::AddVertices(out, m.vn);
+  vcg::tri::Allocator<SampleMesh>::AddVertices(out, m.vn);
   int k = 0;
   for (const auto& v : m.vert)
-    if (!v.IsD()) out.vert[k++].P() = v.cP();
-  vcg::tri::UpdateBounding<MeshD>::Box(out);
+    if (!v.IsD()) out.vert[k++].P() = toVec3<MeshType>(v.cP());
+  vcg::tri::UpdateBounding<SampleMesh>::Box(out);
 }
 
+/// Distances from sample points to the surface of `to` (to its vertices when
+/// it has no faces): vcglib's HausdorffSampler reduced to what
+/// surfaceDistance reports, with the same search and the same arithmetic, so
+/// the same results bit for bit. Unlike HausdorffSampler it takes samples of
+/// any mesh type, needs no normals and leaves the sampled vertices' quality
+/// alone (HausdorffSampler stores each vertex's distance there).
+template <class To>
+class DistanceSampler {
+ public:
+  using CoordType = typename To::CoordType;
+  using ScalarType = typename To::ScalarType;
+
+  /// Normalizes to's face normals (the closest-face search needs them) and
+  /// indexes its faces, or its vertices when it has none.
+  DistanceSampler(To& to, ScalarType upperBound) : to_(to), marker_(&to), upperBound_(upperBound) {
+    vcg::tri::UpdateNormal<To>::PerFaceNormalized(to);
+    if (to.fn == 0)
+      vertexGrid_.Set(to.vert.begin(), to.vert.end());
+    else
+      faceGrid_.Set(to.face.begin(), to.face.end());
+  }
+
+  /// HausdorffSampler::AddVert without the normal and the quality.
+  template <class VertexType>
+  void AddVert(const VertexType& v) {
+    addSample(v.cP());
+  }
+  /// HausdorffSampler::AddFace without the normal.
+  template <class FaceType>
+  void AddFace(const FaceType& f, const CoordType& interp) {
+    addSample(f.cP(0) * interp[0] + f.cP(1) * interp[1] + f.cP(2) * interp[2]);
+  }
+
+  int samples() const { return samples_; }
+  /// Largest distance, rounded to float like HausdorffSampler::getMaxDist.
+  float maxDist() const { return float(maxDist_); }
+  /// Mean distance, rounded to float like HausdorffSampler::getMeanDist.
+  float meanDist() const { return float(sumDist_ / samples_); }
+
+ private:
+  /// HausdorffSampler::AddSample: a point without a surface point closer
+  /// than the upper bound is not counted.
+  void addSample(const CoordType& p) {
+    ScalarType dist = upperBound_;
+    if (to_.fn == 0) {
+      vcg::tri::GetClosestVertex<To, VertexGrid>(to_, vertexGrid_, p, upperBound_, dist);
+    } else {
+      vcg::face::PointDistanceBaseFunctor<ScalarType> pointFaceDistance;
+      CoordType closest;
+      faceGrid_.GetClosest(pointFaceDistance, marker_, p, upperBound_, dist, closest);
+    }
+    if (dist == upperBound_) return;
+    if (dist > maxDist_) maxDist_ = dist;
+    sumDist_ += dist;
+    ++samples_;
+  }
+
+  using FaceGrid = vcg::GridStaticPtr<typename To::FaceType, ScalarType>;
+  using VertexGrid = vcg::GridStaticPtr<typename To::VertexType, ScalarType>;
+  To& to_;
+  FaceGrid faceGrid_;
+  VertexGrid vertexGrid_;
+  vcg::tri::FaceTmark<To> marker_;
+  ScalarType upperBound_;
+  double maxDist_ = 0;
+  double sumDist_ = 0;
+  int samples_ = 0;
+};
+
 /// One-sided distances from samples of `from` (all vertices plus area-uniform
-/// random points with a fixed seed) to the surface of `to`.
-inline std::pair<double, double> oneSidedDistance(MeshD& from, MeshD& to, double upperBound) {
-  using Sampler = vcg::tri::HausdorffSampler<MeshD>;
-  Sampler hs(&to);
-  hs.dist_upper_bound = upperBound;
-  using SS = vcg::tri::SurfaceSampling<MeshD, Sampler>;
+/// random points with a fixed seed) to the surface of `to`. Both are double
+/// meshes (MeshD or SampleMesh) without deleted faces and with an up-to-date
+/// bounding box; `to` gets normalized face normals and fresh face marks.
+template <class From, class To>
+std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound) {
+  using Sampler = DistanceSampler<To>;
+  vcg::tri::InitFaceIMark(to);  // the closest-face search marks faces
+  Sampler hs(to, upperBound);
+  using SS = vcg::tri::SurfaceSampling<From, Sampler>;
   SS::SamplingRandomGenerator().initialize(20130101u);
   // Every vertex and 2F area-uniform points, capped so that a multi-million
   // face mesh is measured in seconds rather than minutes.
@@ -125,8 +240,57 @@ inline std::pair<double, double> oneSidedDistance(MeshD& from, MeshD& to, double
     SS::VertexUniform(from, hs, kMaxVertexSamples);
   const int faceSamples = std::min(kMaxFaceSamples, std::max(10000, 2 * from.fn));
   if (from.fn > 0 && totalArea(from) > 0) SS::Montecarlo(from, hs, faceSamples);  // no area: nothing to sample
-  if (hs.n_total_samples == 0) return {std::numeric_limits<double>::infinity(), 0.0};
-  return {double(hs.getMaxDist()), double(hs.getMeanDist())};
+  if (hs.samples() == 0) return {std::numeric_limits<double>::infinity(), 0.0};
+  return {double(hs.maxDist()), double(hs.meanDist())};
+}
+
+/// surfaceDistance of two meshes that can be sampled as they are (as copyLive
+/// leaves them, or see samplesAsIs): double, no deleted face, no live vertex
+/// outside the live faces, bounding boxes up to date.
+template <class MeshA, class MeshB>
+DistanceStats distanceAsIs(MeshA& A, MeshB& B) {
+  DistanceStats d;
+  const double diag = B.bbox.Diag();
+  if (A.fn == 0 || B.fn == 0 || !(diag > 0) || !std::isfinite(diag) || !std::isfinite(A.bbox.Diag())) {
+    d.maxRel = d.meanRel = std::numeric_limits<double>::infinity();
+    return d;
+  }
+  // A mesh that has run away (e.g. an unguarded run that diverged) would make
+  // the sampling grids degenerate and the search quadratic. Far beyond the
+  // reference the box distance is a tight enough answer: report that bound.
+  double farthest = 0;
+  const auto farthestOutside = [&](const auto& M, const vcg::Box3d& other) {
+    for (const auto& v : M.vert) {
+      if (v.IsD()) continue;
+      if (!isFinite(v.cP())) return false;
+      vcg::Point3d q = v.cP();
+      for (int j = 0; j < 3; ++j) q[j] = std::min(std::max(q[j], other.min[j]), other.max[j]);
+      farthest = std::max(farthest, vcg::Distance(q, v.cP()));
+    }
+    return true;
+  };
+  if (!farthestOutside(A, B.bbox) || !farthestOutside(B, A.bbox)) {
+    d.maxRel = d.meanRel = std::numeric_limits<double>::infinity();
+    return d;
+  }
+  if (farthest > kFarDiagonals * diag) {
+    d.maxRel = farthest / diag;
+    d.meanRel = std::numeric_limits<double>::quiet_NaN();
+    return d;
+  }
+  vcg::Box3d u = A.bbox;
+  u.Add(B.bbox);
+  const double bound = 2.0 * u.Diag() + 1.0;
+  // A surface without area has no faces to measure against: use its points.
+  SampleMesh Apts, Bpts;
+  const bool aFlat = !(totalArea(A) > 0), bFlat = !(totalArea(B) > 0);
+  if (aFlat) pointsOnly(A, Apts);
+  if (bFlat) pointsOnly(B, Bpts);
+  const auto ab = bFlat ? oneSidedDistance(A, Bpts, bound) : oneSidedDistance(A, B, bound);
+  const auto ba = aFlat ? oneSidedDistance(B, Apts, bound) : oneSidedDistance(B, A, bound);
+  d.maxRel = std::max(ab.first, ba.first) / diag;
+  d.meanRel = 0.5 * (ab.second + ba.second) / diag;
+  return d;
 }
 
 }  // namespace detail
@@ -235,62 +399,47 @@ double bboxDiagonal(const MeshType& m) {
   return b.IsNull() ? 0.0 : b.Diag();
 }
 
-/// Beyond this many reference diagonals, surfaceDistance reports a bound.
-constexpr double kFarDiagonals = 10.0;
-
 /// Symmetric surface distance between a and b by vcglib's point sampling
 /// (every vertex plus max(10000, 2F) area-uniform samples each way, capped at
 /// kMaxVertexSamples and kMaxFaceSamples; fixed seed, so the result is
 /// repeatable), relative to b's bounding-box diagonal.
-/// Neither mesh is modified. Returns +inf when a mesh has no faces or a
-/// non-finite coordinate. When a vertex lies more than kFarDiagonals
-/// diagonals outside the other mesh's bounding box, maxRel is that box
-/// distance (a lower bound of the Hausdorff distance) and meanRel is NaN.
+/// Neither mesh is modified: both are copied (positions and triangles, into
+/// SampleMesh). Returns +inf when a mesh has no faces or a non-finite
+/// coordinate. When a vertex lies more than kFarDiagonals diagonals outside
+/// the other mesh's bounding box, maxRel is that box distance (a lower bound
+/// of the Hausdorff distance) and meanRel is NaN.
 template <class MeshA, class MeshB>
 DistanceStats surfaceDistance(const MeshA& a, const MeshB& b) {
-  DistanceStats d;
-  MeshD A, B;
-  detail::copyToDouble(a, A);
-  detail::copyToDouble(b, B);
-  const double diag = B.bbox.Diag();
-  if (A.fn == 0 || B.fn == 0 || !(diag > 0) || !std::isfinite(diag) || !std::isfinite(A.bbox.Diag())) {
-    d.maxRel = d.meanRel = std::numeric_limits<double>::infinity();
-    return d;
-  }
-  // A mesh that has run away (e.g. an unguarded run that diverged) would make
-  // the sampling grids degenerate and the search quadratic. Far beyond the
-  // reference the box distance is a tight enough answer: report that bound.
-  double farthest = 0;
-  for (const auto* M : {&A, &B}) {
-    const vcg::Box3d& other = M == &A ? B.bbox : A.bbox;
-    for (const auto& v : M->vert) {
-      if (!isFinite(v.cP())) {
-        d.maxRel = d.meanRel = std::numeric_limits<double>::infinity();
-        return d;
-      }
-      vcg::Point3d q = v.cP();
-      for (int j = 0; j < 3; ++j) q[j] = std::min(std::max(q[j], other.min[j]), other.max[j]);
-      farthest = std::max(farthest, vcg::Distance(q, v.cP()));
-    }
-  }
-  if (farthest > kFarDiagonals * diag) {
-    d.maxRel = farthest / diag;
-    d.meanRel = std::numeric_limits<double>::quiet_NaN();
-    return d;
-  }
-  vcg::Box3d u = A.bbox;
-  u.Add(B.bbox);
-  const double bound = 2.0 * u.Diag() + 1.0;
-  // A surface without area has no faces to measure against: use its points.
-  MeshD Apts, Bpts;
-  const bool aFlat = !(detail::totalArea(A) > 0), bFlat = !(detail::totalArea(B) > 0);
-  if (aFlat) detail::pointsOnly(A, Apts);
-  if (bFlat) detail::pointsOnly(B, Bpts);
-  const auto ab = detail::oneSidedDistance(A, bFlat ? Bpts : B, bound);
-  const auto ba = detail::oneSidedDistance(B, aFlat ? Apts : A, bound);
-  d.maxRel = std::max(ab.first, ba.first) / diag;
-  d.meanRel = 0.5 * (ab.second + ba.second) / diag;
-  return d;
+  SampleMesh A, B;
+  detail::copyLive(a, A);
+  detail::copyLive(b, B);
+  return detail::distanceAsIs(A, B);
+}
+
+/// surfaceDistance(a, b), the same result bit for bit, without copying a
+/// mesh that can be sampled as it is (no deleted face, and no live vertex
+/// outside the live faces; any other is copied as surfaceDistance copies it).
+/// For a multi-million vertex mesh this saves the copies' memory. a and b are
+/// double meshes (MeshD or SampleMesh). A mesh sampled in place gets its
+/// bounding box updated, its face normals normalized and its face marks reset
+/// (vcglib's closest-face search needs them); its positions, faces, vertex
+/// normals, quality, colour and flags are left alone.
+template <class MeshA, class MeshB>
+DistanceStats surfaceDistanceInPlace(MeshA& a, MeshB& b) {
+  const bool copyA = !detail::samplesAsIs(a), copyB = !detail::samplesAsIs(b);
+  SampleMesh A, B;
+  if (copyA)
+    detail::copyLive(a, A);
+  else
+    vcg::tri::UpdateBounding<MeshA>::Box(a);
+  if (copyB)
+    detail::copyLive(b, B);
+  else
+    vcg::tri::UpdateBounding<MeshB>::Box(b);
+  if (copyA && copyB) return detail::distanceAsIs(A, B);
+  if (copyA) return detail::distanceAsIs(A, b);
+  if (copyB) return detail::distanceAsIs(a, B);
+  return detail::distanceAsIs(a, b);
 }
 
 /// Symmetric Hausdorff distance relative to b's bounding-box diagonal.
