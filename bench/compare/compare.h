@@ -102,6 +102,25 @@ struct Row {
   Metrics m;
 };
 
+/// Time of the unguarded local solvers on one mesh (see MeshReport::unguarded).
+struct UnguardedTiming {
+  bool ok = false;
+  std::string error;  ///< why ok is false (empty: not run)
+  int iterations = 0;
+  /// Medians of `Apply` with `iterations` sweeps and with 0 sweeps (set-up
+  /// alone: ring topology, vertex order, colouring), each from the input.
+  double sodtSeconds = kNaN, sodtSetupSeconds = kNaN;
+  double odtSeconds = kNaN, odtSetupSeconds = kNaN;
+  int sodtRuns = 0, odtRuns = 0;  ///< timed runs behind the medians of the N-sweep calls
+  /// Quality of the unguarded N-sweep results (only to show why it is not
+  /// reported: unguarded runs may fold faces).
+  double sodtMinDeg = kNaN, odtMinDeg = kNaN;
+  long long sodtInverted = -2, odtInverted = -2;  ///< faces turned > 90 deg against the input
+  /// Milliseconds per sweep, set-up excluded.
+  double sodtMsPerSweep() const { return 1e3 * (sodtSeconds - sodtSetupSeconds) / iterations; }
+  double odtMsPerSweep() const { return 1e3 * (odtSeconds - odtSetupSeconds) / iterations; }
+};
+
 /// Everything measured on one input mesh.
 struct MeshReport {
   MeshJob job;
@@ -113,6 +132,11 @@ struct MeshReport {
   /// One sweep per call, each call starting from the previous result (its
   /// deviation bound then refers to the previous sweep, not to the input).
   Curve sodtSteps, odtSteps;
+  /// The local solvers timed the way the paper compares them (Figure 6):
+  /// S-ODT basic and the numerical ODT with Guard::None (no guard, no
+  /// Laplacian fallback, no deviation bound), one thread. Empty (ok false)
+  /// unless both sodt_basic and odt are among the methods.
+  UnguardedTiming unguarded;
   double noopSeconds = kNaN;  ///< meshlabserver loading and saving the mesh with no filter
   std::vector<std::string> notes;
   /// The row of a method, or nullptr.
@@ -173,6 +197,9 @@ struct Options {
   std::string workDir;                ///< meshes, scripts and logs
   std::vector<std::string> methods;   ///< method ids; empty: all
   bool curves = true;                 ///< the one-sweep-at-a-time runs of S-ODT basic and ODT
+  /// Time S-ODT basic and ODT without guard as well (MeshReport::unguarded),
+  /// when both are among the methods.
+  bool unguardedTimings = true;
   bool quiet = false;                 ///< no progress on stderr
   /// In-process methods faster than 1 s are run again, up to this many runs
   /// in all, and the median time is reported (the first run's mesh is measured).

@@ -301,6 +301,10 @@ TEST(Cli, WritesReportAndFigures) {
   }
   EXPECT_NE(md.find("| MeshLab Taubin Smooth | 866 | 1728 |"), std::string::npos) << md;
   EXPECT_EQ(md.find("| failed: "), std::string::npos) << md;
+  // S-ODT and ODT both ran: the unguarded (paper-style) timings are reported.
+  EXPECT_NE(md.find("unguarded ODT / S-ODT per sweep"), std::string::npos) << md;
+  EXPECT_NE(md.find("without guard (the paper's algorithm, set-up excluded) an ODT sweep took"), std::string::npos)
+      << md;
   for (const std::string f : {"cube_jitter_angles.svg", "cube_jitter_convergence.svg", "odt_vs_sodt.svg"}) {
     const std::string svg = readFile(out + "/figures/" + f);
     EXPECT_EQ(svg.compare(0, 4, "<svg"), 0) << f;
