@@ -44,20 +44,36 @@ struct InputSurface {
   bool nearFace(int f, const Vec3& q) const {
     const std::array<int, 3>& t = faces->tri[f];
     const std::vector<Vec3>& P = *pos;
+    const Vec3& a = P[t[0]];
+    const Vec3 qa = q - a;
     const double r = reach[f] + limit;
-    if ((q - P[t[0]]).SquaredNorm() > r * r) return false;  // outside a ball holding the face and its margin
-    return pointTriangleDistance2(q, P[t[0]], P[t[1]], P[t[2]]) <= limit2;
+    if (qa.SquaredNorm() > r * r) return false;  // outside a ball holding the face and its margin
+    const Vec3& b = P[t[1]];
+    const Vec3& c = P[t[2]];
+    const Vec3 ab = b - a, ac = c - a;
+    const Vec3 n = ab ^ ac;
+    const double nn = n.SquaredNorm();
+    if (nn > 0) {
+      // Farther than the bound from the face's plane: farther from the face.
+      const double h = qa * n;
+      if (h * h > limit2 * nn) return false;
+      // Over the face (on the inner side of its three edges): the distance
+      // is the plane distance, already within the bound.
+      if (((ab ^ qa) * n) >= 0 && (((c - b) ^ (q - b)) * n) >= 0 && (((a - c) ^ (q - c)) * n) >= 0) return true;
+    }
+    return pointTriangleDistance2(q, a, b, c) <= limit2;
   }
 
   /// A face of v's input patch within sqrt(limit2) of q, or -1 when there is
-  /// none. The face hint (-1 for none) is tried first; whether a face is
-  /// found does not depend on it, only the time does.
-  int nearFaceOf(int v, const Vec3& q, int hint) const {
+  /// none. The face hints (-1 for none) are tried first; whether a face is
+  /// found does not depend on them, only the time does.
+  int nearFaceOf(int v, const Vec3& q, int hint, int hint2 = -1) const {
     if (hint >= 0 && nearFace(hint, q)) return hint;
+    if (hint2 >= 0 && hint2 != hint && nearFace(hint2, q)) return hint2;
     const RingTopology& T = *topo;
     const int b = T.ringBegin[v], e = T.ringBegin[v + 1];
     for (int k = b; k < e; ++k)
-      if (T.ringFace[k] != hint && nearFace(T.ringFace[k], q)) return T.ringFace[k];
+      if (T.ringFace[k] != hint && T.ringFace[k] != hint2 && nearFace(T.ringFace[k], q)) return T.ringFace[k];
     for (int k = b; k < e; ++k) {
       const int u = T.ringIdx[k];
       if (T.kind[u] != VertexKind::Interior) continue;
