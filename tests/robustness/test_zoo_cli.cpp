@@ -257,6 +257,12 @@ std::vector<BadFile> badFiles() {
       {"huge_list_count_ascii.ply", [] { return asciiTet("4", "1", "255 0 1 2\n"); }, "PLY parse error"},
       {"face_index_out_of_range.ply", [] { return asciiTet("4", "1", "3 0 1 99\n"); }, "vertex index out of range"},
       {"face_index_negative.ply", [] { return asciiTet("4", "1", "3 0 -1 2\n"); }, "vertex index out of range"},
+      // Tokens scanf would split ("1-1" as 1 and -1, "2.0" as 2 and .0) put the
+      // rest of the file out of step with the pre-check (a fuzzing finding).
+      {"ascii_split_token_in_vertex.ply",
+       [] { return plyHeader("ascii", "4", "1") + "0 0 0\n1 0 0\n0 1 0\n0 0 1-1\n3 0 1 2\n"; },
+       "malformed number '1-1'"},
+      {"ascii_fraction_as_index.ply", [] { return asciiTet("4", "1", "3 0 1 2.0\n"); }, "malformed integer '2.0'"},
       {"face_index_out_of_range.off", [] { return std::string("OFF\n4 1 0\n") + kTetVerts + "3 0 1 7\n"; },
        "out of range"},
       {"face_two_corners.off", [] { return std::string("OFF\n4 1 0\n") + kTetVerts + "2 0 1\n"; }, "corners"},

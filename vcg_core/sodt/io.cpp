@@ -400,10 +400,49 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
   if (!ascii && !bigEndian && format != "binary_little_endian") fail("unknown format '" + format + "'");
   auto truncated = [&](const Elem& e) { fail("the data ends inside element '" + e.name + "'"); };
   // Reads one integer of the given PLY type; false at the end of the data.
+  // vcglib scans ASCII values with scanf, which stops at the first character
+  // that cannot continue a number: "1-1" is read as two values, "3.0" for an
+  // integer as "3" then ".0". Tokens it would split that way would put every
+  // later value out of step with this check (and, in faces, hand vcglib
+  // unchecked vertex indices), so each token must be one plain number.
+  auto plainNumber = [](const std::string& t, bool integer) {
+    std::size_t i = 0;
+    if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+    std::size_t digits = 0;
+    while (i < t.size() && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
+    if (integer) return digits > 0 && i == t.size();
+    if (digits == 0) {  // scanf also reads nan and inf (the loader then refuses them by name)
+      std::string w = t.substr(i);
+      for (char& c : w) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (w == "nan" || w == "inf" || w == "infinity") return true;
+    }
+    if (i < t.size() && t[i] == '.') {
+      ++i;
+      while (i < t.size() && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
+    }
+    if (digits == 0) return false;
+    if (i < t.size() && (t[i] == 'e' || t[i] == 'E')) {
+      ++i;
+      if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+      std::size_t exp = 0;
+      while (i < t.size() && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++exp;
+      if (exp == 0) return false;
+    }
+    return i == t.size();
+  };
+  auto isFloatType = [](const std::string& t) {
+    return t == "float" || t == "double" || t == "float32" || t == "float64";
+  };
+  auto checkToken = [&](const std::string& t, const std::string& type) {
+    if (!plainNumber(t, !isFloatType(type)))
+      fail("malformed " + std::string(isFloatType(type) ? "number" : "integer") + " '" + t.substr(0, 40) +
+           "' in the data");
+  };
   auto readInt = [&](const std::string& type, int size, long long& out) -> bool {
     if (ascii) {
       std::string t;
       if (!(in >> t)) return false;
+      checkToken(t, type);
       char* end = nullptr;
       const double d = std::strtod(t.c_str(), &end);
       if (end == t.c_str() || !std::isfinite(d) || std::abs(d) > 4e9) {
@@ -423,11 +462,13 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       out = static_cast<long long>(u);
     return true;
   };
-  auto skip = [&](long long values, int size) -> bool {
+  auto skip = [&](long long values, const std::string& type, int size) -> bool {
     if (ascii) {
       std::string t;
-      for (long long k = 0; k < values; ++k)
+      for (long long k = 0; k < values; ++k) {
         if (!(in >> t)) return false;
+        checkToken(t, type);
+      }
       return true;
     }
     in.seekg(values * size, std::ios::cur);
@@ -452,7 +493,7 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
     for (long long i = 0; i < e.count; ++i)
       for (const Prop& pr : e.props) {
         if (!pr.list) {
-          if (!skip(1, pr.valueSize)) truncated(e);
+          if (!skip(1, pr.valueType, pr.valueSize)) truncated(e);
           continue;
         }
         long long n = 0;
@@ -469,7 +510,7 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
           }
           continue;
         }
-        if (n < 0 || !skip(n, pr.valueSize)) truncated(e);
+        if (n < 0 || !skip(n, pr.valueType, pr.valueSize)) truncated(e);
       }
   }
 }
