@@ -214,6 +214,31 @@ std::string asciiTet(const std::string& nv = "4", const std::string& nf = "4",
   return plyHeader("ascii", nv, nf) + kTetVerts + faces;
 }
 
+/// A binary little-endian tetrahedron whose vertices carry an extra list
+/// property 'extra' (count type countType, int values); vertex 0 has n values,
+/// the others `others`.
+std::string binaryTetWithVertexList(const std::string& countType, int n, int others = 1) {
+  std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                  "property float z\nproperty list " + countType + " int extra\nelement face 4\n"
+                  "property list uchar int vertex_indices\nend_header\n";
+  auto put = [&s](const void* p, std::size_t bytes) { s.append(static_cast<const char*>(p), bytes); };
+  const float v[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int countSize = countType == "uchar" ? 1 : 4;
+  for (int i = 0; i < 4; ++i) {
+    put(v[i], sizeof v[i]);
+    const auto count = static_cast<std::uint32_t>(i == 0 ? n : others);  // little-endian host
+    put(&count, countSize);
+    for (std::uint32_t k = 0; k < count; ++k) put(&i, 4);
+  }
+  const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+  for (const auto& face : f) {
+    const unsigned char three = 3;
+    put(&three, 1);
+    put(face, sizeof face);
+  }
+  return s;
+}
+
 struct BadFile {
   std::string name;  ///< file name (its extension picks the parser)
   std::function<std::string()> bytes;
@@ -288,6 +313,34 @@ std::vector<BadFile> badFiles() {
          return s.insert(at + 16, std::string(2000, 'x'));
        },
        "PLY parse error"},
+      // Lists vcglib reads into fixed buffers (fuzzing findings): a skipped
+      // binary list of more than 512 bytes, a face colour list of more than
+      // 32 values; it takes every skipped binary list count as one byte.
+      {"binary_extra_list_too_long.ply", [] { return binaryTetWithVertexList("uchar", 200); },
+       "vertex 0 has 200 'extra' values, more than the reader can skip"},
+      {"binary_extra_list_int_count.ply", [] { return binaryTetWithVertexList("int", 2); },
+       "'extra' of element 'vertex' has a int count"},
+      {"binary_extra_list_empty.ply", [] { return binaryTetWithVertexList("uchar", 1, 0); },
+       "vertex 1 has an empty 'extra' list"},
+      {"face_colour_list_too_long.ply",
+       [] {
+         std::string s = asciiTet("4", "4", "");
+         s.replace(s.find("end_header"), 0, "property list uchar float color\n");
+         std::string faces = kTetFaces, colours = " 255";
+         for (int k = 0; k < 255; ++k) colours += " 0.5";
+         for (std::size_t at = faces.find('\n'); at != std::string::npos; at = faces.find('\n', at + colours.size() + 1))
+           faces.insert(at, colours);
+         return s + faces;
+       },
+       "face 0 has 255 'color' values; at most 32 are supported"},
+      {"tristrips.ply",
+       [] {
+         return std::string("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                            "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+                            "end_header\n") +
+                kTetVerts + "4 0 1 2 3\n";
+       },
+       "'tristrips' elements are not supported"},
       {"unsupported.obj", [] { return std::string("v 0 0 0\n"); }, "OBJ is not supported"},
   };
 }
@@ -335,6 +388,32 @@ TEST_P(CliBadFile, FailsCleanly) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cli, CliBadFile, testing::ValuesIn(badFileNames()), fileParamName);
+
+/// Extra list properties within vcglib's limits still load: a short binary
+/// list with a one-byte count is skipped, a short face colour list is read.
+TEST(CliExtraLists, ShortListsLoadAndSmooth) {
+  TempDir dir;
+  const std::string binary = dir / "binary.ply", ascii = dir / "ascii.ply";
+  sodt_zoo::writeText(binary, binaryTetWithVertexList("uchar", 128));  // exactly 512 bytes
+  std::string faces = kTetFaces;
+  for (std::size_t at = faces.find('\n'); at != std::string::npos; at = faces.find('\n', at + 11))
+    faces.insert(at, " 3 1 0.5 0");
+  std::string text = asciiTet("4", "4", faces);
+  text.replace(text.find("end_header"), 0, "property list uchar float color\n");
+  sodt_zoo::writeText(ascii, text);
+  for (const std::string& in : {binary, ascii}) {
+    SCOPED_TRACE(in);
+    const std::string out = dir / "out.ply";
+    const RunResult r = sodt_zoo::runSodt({"smooth", in, out, "--quiet"});
+    ASSERT_FALSE(r.crashed()) << r.describe();
+    ASSERT_EQ(r.exitCode, 0) << r.describe();
+    sodt::MeshD m;
+    sodt::loadMesh(out, m);
+    EXPECT_EQ(m.vn, 4);
+    EXPECT_EQ(m.fn, 4);
+    EXPECT_TRUE(sodt::isClosedOriented(m));
+  }
+}
 
 /// Input that is a directory, a missing file, an unreadable file.
 TEST(CliBadPath, FailsCleanly) {

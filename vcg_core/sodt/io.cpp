@@ -291,7 +291,10 @@ void checkPlyHeader(const std::string& file, const std::string& path) {
 /// without a count) crash it; a face list type it has no descriptor for, or a
 /// face element without a vertex index list, leaves corners uninitialised;
 /// a face with fewer than 3 or more than 255 corners overflows or truncates its
-/// fixed corner buffer; it range-checks only some corners of polygons. Walks
+/// fixed corner buffer; it range-checks only some corners of polygons; it
+/// reads other lists into fixed buffers (32 face colour or texture values, 512
+/// bytes for a skipped binary list, whose count it takes as one byte whatever
+/// its declared type) and triangle strips with unchecked indices. Walks
 /// the whole body (ASCII or binary) and throws InvalidInput naming the first
 /// problem.
 void checkPlyStructure(const std::string& file, const std::string& path) {
@@ -302,6 +305,7 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
     std::string countType, valueType;
     int countSize = 0, valueSize = 0;
     bool isIndex = false;
+    std::string name;
   };
   struct Elem {
     std::string name;
@@ -367,6 +371,7 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       if ((pr.list && pr.countSize == 0) || pr.valueSize == 0)
         fail("unknown property type on line " + std::to_string(lineNo));
       pr.isIndex = pr.list && (name == "vertex_indices" || name == "vertex_index");
+      pr.name = name;
       elems.back().props.push_back(pr);
     } else if (word == "end_header") {
       ended = true;
@@ -375,8 +380,13 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
   if (!ended) fail("the header has no 'end_header'");
 
   long long vertices = 0;
-  for (const Elem& e : elems)
+  for (const Elem& e : elems) {
     if (e.name == "vertex") vertices = e.count;
+    // vcglib reads triangle strips and range grids with vertex indices it
+    // does not fully check, and range grids into a 5-entry buffer.
+    if ((e.name == "tristrips" || e.name == "range_grid") && e.count > 0)
+      fail("'" + e.name + "' elements are not supported; save the mesh with a 'face' element");
+  }
   for (const Elem& e : elems) {
     if (e.name != "face" || e.count == 0) continue;
     int lists = 0;
@@ -510,7 +520,24 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
           }
           continue;
         }
-        if (n < 0 || !skip(n, pr.valueType, pr.valueSize)) truncated(e);
+        if (n < 0) truncated(e);
+        // vcglib reads a face 'color' or 'texcoord' list into a 32-value
+        // buffer, and skips every other binary list with a one-byte count into
+        // a 512-byte buffer.
+        const bool faceValues = isFace && (pr.name == "color" || pr.name == "texcoord");
+        if (faceValues && n > 32)
+          fail("face " + std::to_string(i) + " has " + std::to_string(n) + " '" + pr.name +
+               "' values; at most 32 are supported");
+        if (!ascii && pr.countSize != 1)
+          fail("list property '" + pr.name + "' of element '" + e.name + "' has a " + pr.countType +
+               " count; only one-byte counts are supported outside face indices");
+        if (!ascii && n == 0 && !faceValues)  // vcglib takes its zero-byte read for the end of the file
+          fail(e.name + " " + std::to_string(i) + " has an empty '" + pr.name +
+               "' list; binary lists the reader skips cannot be empty");
+        if (!ascii && n * pr.valueSize > 512)
+          fail(e.name + " " + std::to_string(i) + " has " + std::to_string(n) + " '" + pr.name +
+               "' values, more than the reader can skip (512 bytes)");
+        if (!skip(n, pr.valueType, pr.valueSize)) truncated(e);
       }
   }
 }
