@@ -126,6 +126,27 @@ TEST(Metrics, DistanceSamplerMatchesVcgHausdorffSampler) {
   EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second;
 }
 
+/// A mesh with a spike against the same mesh without it (what smoothing
+/// does to a spike): the samples on the spike lie millions of the smooth
+/// mesh's grid cells away from it. Each used to cost a search round per cell
+/// width (the CLI hung); the distance is the spike tip's.
+TEST(Metrics, SamplesFarOutsideTheOtherMeshAreMeasured) {
+  Mesh smooth, spiky;
+  sodt_test::makeSphere(smooth, 3);
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(spiky, smooth);
+  int tip = 0;
+  for (std::size_t i = 0; i < spiky.vert.size(); ++i)
+    if (spiky.vert[i].P()[0] > spiky.vert[tip].P()[0]) tip = static_cast<int>(i);
+  const double length = 1e7;
+  spiky.vert[tip].P()[0] = length;
+  vcg::tri::UpdateBounding<Mesh>::Box(smooth);
+  vcg::tri::UpdateBounding<Mesh>::Box(spiky);
+  const sodt::DistanceStats d = sodt::surfaceDistance(smooth, spiky);  // relative to the spiky diagonal
+  const double tipDistance = length - 1.0;  // the unit sphere's farthest point in x is at 1
+  EXPECT_NEAR(d.maxRel * sodt::bboxDiagonal(spiky), tipDistance, 1e-6 * length);
+  EXPECT_TRUE(std::isfinite(d.meanRel) && d.meanRel > 0 && d.meanRel < d.maxRel);
+}
+
 TEST(Metrics, SurfaceDistanceInPlaceEqualsCopying) {
   Mesh a, b;
   sodt_test::makeSphere(a, 4);

@@ -165,13 +165,19 @@ class DistanceSampler {
   using ScalarType = typename To::ScalarType;
 
   /// Normalizes to's face normals (the closest-face search needs them) and
-  /// indexes its faces, or its vertices when it has none.
-  DistanceSampler(To& to, ScalarType upperBound) : to_(to), marker_(&to), upperBound_(upperBound) {
+  /// indexes its faces, or its vertices when it has none. The samples are
+  /// expected inside `cover`: vcglib's closest-point search widens its radius
+  /// one cell at a time, so a sample far outside the grid would take as many
+  /// rounds as there are cell widths between them (a mesh whose spike the
+  /// smoothing removed: ten million rounds per sample). The grid is laid over
+  /// cover as well when cover reaches beyond to's own box.
+  DistanceSampler(To& to, ScalarType upperBound, const vcg::Box3<ScalarType>& cover)
+      : to_(to), marker_(&to), upperBound_(upperBound) {
     vcg::tri::UpdateNormal<To>::PerFaceNormalized(to);
     if (to.fn == 0)
-      vertexGrid_.Set(to.vert.begin(), to.vert.end());
+      setGrid(vertexGrid_, to.vert.begin(), to.vert.end(), to.vn, cover);
     else
-      faceGrid_.Set(to.face.begin(), to.face.end());
+      setGrid(faceGrid_, to.face.begin(), to.face.end(), to.fn, cover);
   }
 
   /// HausdorffSampler::AddVert without the normal and the quality.
@@ -209,6 +215,30 @@ class DistanceSampler {
     ++samples_;
   }
 
+  /// Grid over the live elements [begin, end), as vcglib lays it, or over
+  /// their box joined with cover (inflated the way vcglib inflates) when
+  /// cover sticks out of it.
+  template <class Grid, class Iter>
+  static void setGrid(Grid& grid, Iter begin, Iter end, int live, const vcg::Box3<ScalarType>& cover) {
+    vcg::Box3<ScalarType> own, b;
+    for (Iter i = begin; i != end; ++i) {
+      if (i->IsD()) continue;
+      i->GetBBox(b);
+      own.Add(b);
+    }
+    vcg::Box3<ScalarType> all = own;
+    all.Add(cover);
+    if (cover.IsNull() || all == own) {
+      grid.Set(begin, end);
+      return;
+    }
+    const int size = std::max(1, live);
+    const ScalarType infl = all.Diag() / size;
+    all.min -= CoordType(infl, infl, infl);
+    all.max += CoordType(infl, infl, infl);
+    grid.Set(begin, end, all, size);
+  }
+
   using FaceGrid = vcg::GridStaticPtr<typename To::FaceType, ScalarType>;
   using VertexGrid = vcg::GridStaticPtr<typename To::VertexType, ScalarType>;
   To& to_;
@@ -229,7 +259,7 @@ template <class From, class To>
 std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound) {
   using Sampler = DistanceSampler<To>;
   vcg::tri::InitFaceIMark(to);  // the closest-face search marks faces
-  Sampler hs(to, upperBound);
+  Sampler hs(to, upperBound, from.bbox);
   using SS = vcg::tri::SurfaceSampling<From, Sampler>;
   SS::SamplingRandomGenerator().initialize(20130101u);
   // Every vertex and 2F area-uniform points, capped so that a multi-million
