@@ -868,6 +868,8 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const Measures&
   j.member("failed_solves", st.failedSolves);
   j.member("unchanged", st.unchanged);
   j.member("skipped_visits", st.skipped);
+  j.member("deviation_queries", st.deviationQueries);
+  j.member("deviation_reused", st.deviationReused);
   j.member("active_vertices", st.activeVertices);
   j.member("fixed_boundary", st.fixedBoundary);
   j.member("fixed_nonmanifold", st.fixedNonManifold);

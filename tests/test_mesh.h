@@ -27,6 +27,23 @@ inline bool fileExists(const std::string& p) {
   return ::stat(p.c_str(), &st) == 0;
 }
 
+/// Every vertex position, in order (for exact comparisons of two runs).
+template <class M>
+std::vector<typename M::CoordType> positions(const M& m) {
+  std::vector<typename M::CoordType> p;
+  for (const auto& v : m.vert) p.push_back(v.cP());
+  return p;
+}
+
+/// Every face's vertex indices, in order.
+template <class M>
+std::vector<std::array<int, 3>> faceIndices(const M& m) {
+  std::vector<std::array<int, 3>> f;
+  for (const auto& F : m.face)
+    f.push_back({int(F.cV(0) - &m.vert[0]), int(F.cV(1) - &m.vert[0]), int(F.cV(2) - &m.vert[0])});
+  return f;
+}
+
 /// Adds a triangle with the given vertex indices.
 template <class M>
 void addFace(M& m, int a, int b, int c) {

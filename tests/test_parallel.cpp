@@ -23,18 +23,9 @@ void loadBundled(MeshD& m, const std::string& name) {
   sodt::loadMesh(path, m);
 }
 
-std::vector<vcg::Point3d> positions(const MeshD& m) {
-  std::vector<vcg::Point3d> p;
-  for (const auto& v : m.vert) p.push_back(v.cP());
-  return p;
-}
+using sodt_test::positions;
 
-std::vector<std::array<int, 3>> faces(const MeshD& m) {
-  std::vector<std::array<int, 3>> f;
-  for (const auto& F : m.face)
-    f.push_back({int(F.cV(0) - &m.vert[0]), int(F.cV(1) - &m.vert[0]), int(F.cV(2) - &m.vert[0])});
-  return f;
-}
+std::vector<std::array<int, 3>> faces(const MeshD& m) { return sodt_test::faceIndices(m); }
 
 /// Every counter of the run (threads aside).
 std::vector<long long> counters(const sodt::SodtStats& s) {

@@ -15,12 +15,7 @@
 
 namespace {
 
-template <class M>
-std::vector<typename M::CoordType> positions(const M& m) {
-  std::vector<typename M::CoordType> p;
-  for (const auto& v : m.vert) p.push_back(v.cP());
-  return p;
-}
+using sodt_test::positions;
 
 template <class M>
 sodt::SodtStats smooth(M& m, sodt::Guard guard, int iterations, bool selectedOnly = false) {

@@ -22,6 +22,7 @@ struct InputSurface {
   const std::vector<Vec3>* pos = nullptr;
   double limit = 0;  ///< distance bound
   double limit2 = 0;  ///< its square
+
   /// Per face: an upper bound of the distance from its first corner to its
   /// other two, so that far faces are skipped without the exact distance.
   std::vector<float> reach;
@@ -41,7 +42,10 @@ struct InputSurface {
     }
   }
 
-  bool nearFace(int f, const Vec3& q) const {
+  /// True when q lies within the bound of input face f; then *dist (when
+  /// not null) gets an upper bound of q's distance to f (exceeding it by
+  /// about 1e-9 of the face's size at most).
+  bool nearFace(int f, const Vec3& q, double* dist = nullptr) const {
     const std::array<int, 3>& t = faces->tri[f];
     const std::vector<Vec3>& P = *pos;
     const Vec3& a = P[t[0]];
@@ -53,56 +57,122 @@ struct InputSurface {
     const Vec3 ab = b - a, ac = c - a;
     const Vec3 n = ab ^ ac;
     const double nn = n.SquaredNorm();
-    if (nn > 0) {
+    // The plane tests need a normal that is not made of rounding errors, as
+    // that of a face with (nearly) collinear corners is.
+    if (nn > 1e-12 * ab.SquaredNorm() * ac.SquaredNorm()) {
       // Farther than the bound from the face's plane: farther from the face.
       const double h = qa * n;
       if (h * h > limit2 * nn) return false;
       // Over the face (on the inner side of its three edges): the distance
       // is the plane distance, already within the bound.
-      if (((ab ^ qa) * n) >= 0 && (((c - b) ^ (q - b)) * n) >= 0 && (((a - c) ^ (q - c)) * n) >= 0) return true;
+      if (((ab ^ qa) * n) >= 0 && (((c - b) ^ (q - b)) * n) >= 0 && (((a - c) ^ (q - c)) * n) >= 0) {
+        if (dist) *dist = std::abs(h) / std::sqrt(nn) + 1e-9 * r;
+        return true;
+      }
     }
-    return pointTriangleDistance2(q, a, b, c) <= limit2;
+    const double d2 = pointTriangleDistance2(q, a, b, c);
+    if (!(d2 <= limit2)) return false;
+    if (dist) *dist = std::sqrt(d2) + 1e-9 * r;
+    return true;
   }
 
   /// A face of v's input patch within sqrt(limit2) of q, or -1 when there is
-  /// none. The face hints (-1 for none) are tried first; whether a face is
-  /// found does not depend on them, only the time does.
-  int nearFaceOf(int v, const Vec3& q, int hint, int hint2 = -1) const {
-    if (hint >= 0 && nearFace(hint, q)) return hint;
-    if (hint2 >= 0 && hint2 != hint && nearFace(hint2, q)) return hint2;
+  /// none; *dist as for nearFace. The face hints (-1 for none) are tried
+  /// first; whether a face is found does not depend on them, only the time
+  /// does.
+  int nearFaceOf(int v, const Vec3& q, int hint, int hint2 = -1, double* dist = nullptr) const {
+    if (hint >= 0 && nearFace(hint, q, dist)) return hint;
+    if (hint2 >= 0 && hint2 != hint && nearFace(hint2, q, dist)) return hint2;
     const RingTopology& T = *topo;
     const int b = T.ringBegin[v], e = T.ringBegin[v + 1];
     for (int k = b; k < e; ++k)
-      if (T.ringFace[k] != hint && T.ringFace[k] != hint2 && nearFace(T.ringFace[k], q)) return T.ringFace[k];
+      if (T.ringFace[k] != hint && T.ringFace[k] != hint2 && nearFace(T.ringFace[k], q, dist)) return T.ringFace[k];
     for (int k = b; k < e; ++k) {
       const int u = T.ringIdx[k];
       if (T.kind[u] != VertexKind::Interior) continue;
       for (int j = T.ringBegin[u]; j < T.ringBegin[u + 1]; ++j)
-        if (nearFace(T.ringFace[j], q)) return T.ringFace[j];
+        if (nearFace(T.ringFace[j], q, dist)) return T.ringFace[j];
     }
     return -1;
   }
 
   /// True when q lies within sqrt(limit2) of a face of v's input patch.
-  bool near(int v, const Vec3& q, int hint) const { return nearFaceOf(v, q, hint) >= 0; }
+  bool near(int v, const Vec3& q, int hint, double* dist = nullptr) const {
+    return nearFaceOf(v, q, hint, -1, dist) >= 0;
+  }
 
-  /// True when, with vertex v (the centre of st) at p, p and the midpoints of
-  /// the star's edges at p lie within sqrt(limit2) of v's input patch. Where
-  /// the input is locally flat, the distance to it is convex and the farthest
-  /// point of a star triangle is one of its corners; the edge midpoints catch
-  /// edges that cut across a crease or a bend. hints, when not null, gives per
-  /// star triangle the input face it came from (valid while the connectivity
-  /// is the input's). pointHint is a face to try first for p (-1 for none);
-  /// it is set to the face found. A vertex that is not interior in the input
-  /// is not restricted.
-  bool keeps(int v, const Star& st, const Vec3& p, const int* hints, int& pointHint) const {
-    if (topo->kind[v] != VertexKind::Interior) return true;
-    const int f = nearFaceOf(v, p, pointHint >= 0 ? pointHint : (hints ? hints[0] : -1));
-    if (f < 0) return false;
-    pointHint = f;
-    for (std::size_t k = 0; k < st.size(); ++k) {
-      if (!near(v, (p + st.ring[k] + st.at(k + 1)) / 3.0, hints ? hints[k] : -1)) return false;
-      if (!near(v, (p + st.ring[k]) * 0.5, hints ? hints[k] : -1)) return false;
+  /// Margins left inside the bound by a vertex's last accepted move, from
+  /// which keeps() answers without distance queries: for the
+  /// vertex itself, and per star triangle k for its centroid and the
+  /// midpoint of the edge to ring vertex k (the smaller of the two).
+  /// Negative: none. Stored rounded down, so they stay lower bounds.
+  struct Margins {
+    float point = -1;
+    float* slot = nullptr;  ///< star-size entries
+  };
+
+  /// A float below x (by about 1e-6 of it), so that a stored margin stays a
+  /// lower bound.
+  static float floatBelow(double x) {
+    return static_cast<float>(x > 0 ? x * (1 - 1e-6) : x * (1 + 1e-6) - 1e-30);
+  }
+
+  /// True when, with vertex v (the centre of st) at p, p and the centroids
+  /// and edge midpoints of the star's triangles at p lie within
+  /// sqrt(limit2) of v's input patch. Where the input is locally flat, the
+  /// distance to it is convex and the farthest point of a star triangle is
+  /// one of its corners; the centroids and midpoints catch triangles and
+  /// edges that cut across a crease or a bend. A vertex that is not interior
+  /// in the input is not restricted.
+  ///
+  /// hints, when not null, gives per star triangle the input face it came
+  /// from (valid while the connectivity is the input's); pointHint is a face
+  /// to try first for p (-1 for none), set to the face found. They only save
+  /// time.
+  ///
+  /// last holds the margins of the vertex's last accepted move (or none):
+  /// the distance to the input is 1-Lipschitz; since that move the vertex
+  /// moves by step and ring vertex k has moved by at most drift[k], so the
+  /// midpoint to ring vertex k moves by (step + drift[k]) / 2 and the
+  /// centroid of star triangle k by (step + drift[k] + drift[k + 1]) / 3. A
+  /// point whose margin covers its movement is within the bound without a
+  /// distance query; the others are queried. The answer does not depend on
+  /// the margins. After a true answer, next holds the margins of the new
+  /// position (next.slot must have star-size entries). Adds the points it
+  /// queried and those it answered from the margins to the counts.
+  bool keeps(int v, const Star& st, const Vec3& p, const int* hints, int& pointHint, double step,
+             const double* drift, const Margins& last, Margins& next, long long& queried, long long& reused) const {
+    const std::size_t n = st.size();
+    if (topo->kind[v] != VertexKind::Interior) {  // unrestricted
+      next.point = -1;
+      std::fill(next.slot, next.slot + n, -1.f);
+      return true;
+    }
+    double d = 0;
+    if (step <= last.point) {
+      ++reused;
+      next.point = floatBelow(last.point - step);
+    } else {
+      ++queried;
+      const int f = nearFaceOf(v, p, pointHint >= 0 ? pointHint : (hints ? hints[0] : -1), -1, &d);
+      if (f < 0) return false;
+      pointHint = f;
+      next.point = floatBelow(limit - d);
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t k1 = k + 1 < n ? k + 1 : 0;
+      const double moved = std::max((step + drift[k]) / 2, (step + drift[k] + drift[k1]) / 3);
+      if (moved <= last.slot[k]) {
+        reused += 2;
+        next.slot[k] = floatBelow(last.slot[k] - moved);
+        continue;
+      }
+      queried += 2;
+      double dc = 0, dm = 0;
+      if (!near(v, (p + st.ring[k] + st.at(k + 1)) / 3.0, hints ? hints[k] : -1, &dc)) return false;
+      const int before = hints ? hints[k == 0 ? n - 1 : k - 1] : -1;
+      if (nearFaceOf(v, (p + st.ring[k]) * 0.5, hints ? hints[k] : -1, before, &dm) < 0) return false;
+      next.slot[k] = floatBelow(limit - std::max(dc, dm));
     }
     return true;
   }

@@ -63,6 +63,11 @@ struct SodtParams {
   /// distance to the input. Not used by Denoise, whose purpose is to leave
   /// the noisy input surface, nor with Guard::None.
   double maxDeviationRel = 0.001;
+  /// Performance only: the deviation guard remembers, per vertex and per
+  /// star triangle, how far inside the bound its last accepted move left
+  /// the checked points, and skips the distance queries of later moves too
+  /// short to use that margin up. The results are the same either way.
+  bool reuseDeviationMargins = true;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.
   bool flips = false;
@@ -137,6 +142,11 @@ struct SodtStats {
   /// without solving: the vertex did not move at its previous visit and
   /// nothing in its star has moved since, so it would not move now either.
   long long skipped = 0;
+  /// Points the deviation guard checked (a vertex, a centroid or an edge
+  /// midpoint of its star): by a distance query to the input, or from the
+  /// margin the vertex's previous move left (see reuseDeviationMargins).
+  long long deviationQueries = 0;
+  long long deviationReused = 0;
   int threads = 1;             ///< worker threads the sweeps used
 };
 

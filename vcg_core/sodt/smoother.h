@@ -226,6 +226,15 @@ struct SodtSmoother {
     // Per vertex, the input face its position was last found near (a hint
     // for the deviation guard; every vertex writes only its own).
     std::vector<int> pointHint(nv, -1);
+    // What the deviation guard remembers between visits (see
+    // InputSurface::keeps): per vertex the length of the path it has moved
+    // so far and the margin of its position; per ring slot the margin of
+    // that star triangle and the ring vertex's path length at the time
+    // (rounded down).
+    const std::size_t ringSlots = deviationGuard ? topo.ringIdx.size() : 0;
+    std::vector<double> odo(deviationGuard ? nv : 0, 0.0);
+    std::vector<float> pointMargin(deviationGuard ? nv : 0, -1.f);
+    std::vector<float> slotMargin(ringSlots, -1.f), slotOdo(ringSlots, 0.f);
     std::vector<Scratch> scratch(threads);
     int maxValence = 0;
     for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
@@ -259,11 +268,40 @@ struct SodtSmoother {
             for (int k = b; k < e; ++k) star.refNormal[k - b] = faceNormal[topo.ringFace[k]];
           }
           const int* hints = inputConnectivity ? topo.ringFace.data() + b : nullptr;
-          const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, pos[i]);
+          Budget budget;
+          if (deviationGuard) {
+            // Path lengths grow by rounding too: a margin of 1e-12 of them.
+            const double eps = 1e-12 * (odo[i] + input.limit);
+            sc.drift.resize(e - b);
+            for (int k = b; k < e; ++k) {
+              const double o = odo[topo.ringIdx[k]];
+              sc.drift[k - b] = o - slotOdo[k] + 1e-12 * o + eps;
+            }
+            sc.nextSlot.resize(e - b);
+            budget.drift = sc.drift.data();
+            budget.eps = eps;
+            budget.last.point = pointMargin[i];
+            budget.last.slot = slotMargin.data() + b;
+            budget.next.slot = sc.nextSlot.data();
+          }
+          const Vec3 from = pos[i];
+          const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, budget, pos[i]);
           ++sc.count[static_cast<int>(o)];
+          sc.queried += budget.queried;
+          sc.reused += budget.reused;
           lastVisit[i] = phase;
           lastOutcome[i] = o;
-          if (moves(o)) movedAt[i] = phase;
+          if (moves(o)) {
+            movedAt[i] = phase;
+            if (deviationGuard && p.reuseDeviationMargins) {
+              odo[i] += (pos[i] - from).Norm();
+              pointMargin[i] = budget.next.point;
+              for (int k = b; k < e; ++k) {
+                slotMargin[k] = sc.nextSlot[k - b];
+                slotOdo[k] = InputSurface::floatBelow(odo[topo.ringIdx[k]]);
+              }
+            }
+          }
         };
 #ifdef _OPENMP
         if (threads > 1 && n >= kMinParallelColour) {
@@ -289,6 +327,11 @@ struct SodtSmoother {
           for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
           for (Scratch& s : scratch) s.reserve(maxValence);
           std::fill(lastVisit.begin(), lastVisit.end(), -1);  // stars changed: visit everything again
+          if (deviationGuard) {  // and check them in full
+            std::fill(pointMargin.begin(), pointMargin.end(), -1.f);
+            slotMargin.assign(topo.ringIdx.size(), -1.f);
+            slotOdo.assign(topo.ringIdx.size(), 0.f);
+          }
         }
       }
       bool stop = false;
@@ -319,6 +362,8 @@ struct SodtSmoother {
     for (const Scratch& sc : scratch) {
       for (int o = 0; o < kOutcomes; ++o) count(stats, static_cast<Outcome>(o), sc.count[o]);
       stats.skipped += sc.skipped;
+      stats.deviationQueries += sc.queried;
+      stats.deviationReused += sc.reused;
     }
     stats.returnedSweep = stats.iterations;
     if (p.keepBest && bestSweep != stats.iterations) {
@@ -453,6 +498,9 @@ struct SodtSmoother {
     std::vector<double> ringEdge2;  ///< see ringEdgeLengths2
     std::array<long long, kOutcomes> count{};
     long long skipped = 0;
+    long long queried = 0, reused = 0;  ///< deviation-guard points, see SodtStats
+    std::vector<double> drift;  ///< see Budget
+    std::vector<float> nextSlot;
     /// Sized up front so that no visit allocates (allocation inside a
     /// parallel region could not report failure).
     void reserve(int valence) {
@@ -460,6 +508,8 @@ struct SodtSmoother {
       star.refNormal.reserve(valence);
       foldRef.reserve(valence);
       ringEdge2.reserve(valence);
+      drift.reserve(valence);
+      nextSlot.reserve(valence);
     }
   };
 
@@ -492,12 +542,22 @@ struct SodtSmoother {
     return Vec3(double(ScalarType(x[0])), double(ScalarType(x[1])), double(ScalarType(x[2])));
   }
 
+  /// One visit's view of the deviation guard's margins (see
+  /// InputSurface::keeps).
+  struct Budget {
+    InputSurface::Margins last;  ///< of the vertex's last accepted move
+    const double* drift = nullptr;  ///< per ring vertex: path length since then (upper bound)
+    InputSurface::Margins next;  ///< of the accepted move
+    double eps = 0;  ///< added to the vertex's step for the rounding of path lengths
+    long long queried = 0, reused = 0;  ///< points checked each way
+  };
+
   /// Tries the step from the centre towards target, shortened by halvings,
   /// under the guard. Returns the number of halvings used, -1 when every
   /// length was vetoed, -2 when the step rounds to no move at all.
   static int tryStep(const Context& c, int i, const Star& star, const int* hints, const std::vector<Vec3>& foldRef,
                      const std::vector<double>& ringEdge2, const Vec3& target, double minAngleCos2Before,
-                     int& pointHint, Vec3& x) {
+                     int& pointHint, Budget& budget, Vec3& x) {
     const SodtParams& p = c.p;
     const Vec3 step = target - star.center;
     double f = 1.0;
@@ -506,7 +566,9 @@ struct SodtSmoother {
       if (!isFinite(y)) continue;
       if (y == x) return j == 0 ? -2 : -1;  // shorter steps round to nothing as well
       if (!moveAllowed(star, y, foldRef, ringEdge2, p.guard == Guard::Quality, minAngleCos2Before)) continue;
-      if (c.input && !c.input->keeps(i, star, y, hints, pointHint)) continue;
+      if (c.input && !c.input->keeps(i, star, y, hints, pointHint, (y - star.center).Norm() + budget.eps, budget.drift,
+                                     budget.last, budget.next, budget.queried, budget.reused))
+        continue;
       x = y;
       return j;
     }
@@ -611,7 +673,7 @@ struct SodtSmoother {
   /// Proposes, guards and commits the move of vertex i into x. hints: the
   /// input face of each star triangle while the connectivity is the input's.
   static Outcome visitVertex(const Context& c, int i, const Star& star, const int* hints, int& pointHint, Scratch& sc,
-                             Vec3& x) {
+                             Budget& budget, Vec3& x) {
     const Proposal pr = propose(c, i, star);
     if (!pr.ok) return Outcome::Failed;
     const SodtParams& p = c.p;
@@ -627,12 +689,13 @@ struct SodtSmoother {
     const double before = p.guard == Guard::Quality ? starMinAngleCos2(star, star.center) : 1.0;
     foldReferences(star, pr.normal, sc.foldRef);
     ringEdgeLengths2(star, sc.ringEdge2);
-    const int r = tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, x);
+    const int r = tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, budget, x);
     if (r == 0) return Outcome::Moved;
     if (r > 0) return Outcome::Backtracked;
     if (p.laplacianFallback) {
       const Vec3 fallback = pr.tangentialFallback ? tangentialLaplacianTarget(star, pr.normal) : pr.fallback;
-      if (tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, fallback, before, pointHint, x) >= 0) return Outcome::Fallback;
+      if (tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, fallback, before, pointHint, budget, x) >= 0)
+        return Outcome::Fallback;
     }
     return r == -2 ? Outcome::Unchanged : Outcome::Rejected;
   }

@@ -1,0 +1,170 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The deviation guard: its face test must give the answer of the exact
+// point-triangle distance everywhere, and the margins it keeps between visits
+// must not change any result.
+#include <sodt/deviation.h>
+#include <sodt/io.h>
+#include <sodt/mesh.h>
+#include <sodt/smoother.h>
+
+#include <vcg/complex/append.h>
+
+#include "test_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace {
+
+using sodt::Vec3;
+
+/// One InputSurface over loose triangles (no topology needed by nearFace).
+struct Triangles {
+  std::vector<Vec3> pos;
+  sodt::FaceList faces;
+  sodt::RingTopology topo;
+  sodt::InputSurface in;
+
+  void add(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const int i = static_cast<int>(pos.size());
+    pos.insert(pos.end(), {a, b, c});
+    faces.tri.push_back({i, i + 1, i + 2});
+    faces.live.push_back(1);
+    faces.flippable.push_back(0);
+  }
+  void prepare(double limit) {
+    in.faces = &faces;
+    in.topo = &topo;
+    in.pos = &pos;
+    in.prepare(limit);
+  }
+  bool exact(int f, const Vec3& q) const {
+    const auto& t = faces.tri[f];
+    return sodt::pointTriangleDistance2(q, pos[t[0]], pos[t[1]], pos[t[2]]) <= in.limit2;
+  }
+};
+
+/// A point at signed height h over the barycentric point (u, v) of face f
+/// (u, v may lie outside the face), plus a little noise.
+Vec3 probe(const Triangles& T, int f, double u, double v, double h) {
+  const auto& t = T.faces.tri[f];
+  const Vec3 &a = T.pos[t[0]], &b = T.pos[t[1]], &c = T.pos[t[2]];
+  Vec3 n = (b - a) ^ (c - a);
+  const double len = n.Norm();
+  if (len > 0) n /= len;
+  return a + (b - a) * u + (c - a) * v + n * h;
+}
+
+TEST(DeviationGuard, FaceTestAgreesWithTheExactDistance) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Triangles T;
+  const double offsets[] = {0.0, 1e3, -4e5};  // far from the origin too
+  for (double off : offsets) {
+    for (int k = 0; k < 40; ++k) {
+      const Vec3 o(off + U(rng), off * 0.5 + U(rng), U(rng));
+      const Vec3 a = o + Vec3(U(rng), U(rng), U(rng)), b = o + Vec3(U(rng), U(rng), U(rng));
+      Vec3 c = o + Vec3(U(rng), U(rng), U(rng));
+      if (k % 10 == 0) c = a + (b - a) * 0.3;  // collinear: no plane
+      if (k % 10 == 1) c = a + (b - a) * 0.5 + Vec3(1e-9, 0, 0);  // a sliver
+      T.add(a, b, c);
+    }
+  }
+  const double limit = 0.05;
+  T.prepare(limit);
+  long long tested = 0, near = 0, borderline = 0;
+  std::uniform_real_distribution<double> bary(-0.3, 1.3);
+  for (int f = 0; f < static_cast<int>(T.faces.tri.size()); ++f) {
+    for (int s = 0; s < 3000; ++s) {
+      // Heights clustered at the bound and barycentrics at the edges, where
+      // the fast path must hand over to the exact distance.
+      double h = limit * (s % 3 == 0 ? U(rng) * 3 : (1 + 1e-7 * U(rng)) * (U(rng) < 0 ? -1 : 1));
+      double u = bary(rng), v = bary(rng);
+      if (s % 4 == 1) u = 1e-9 * U(rng);
+      if (s % 4 == 2) v = 1 - u + 1e-9 * U(rng);
+      const Vec3 q = probe(T, f, u, v, h);
+      const bool want = T.exact(f, q);
+      const auto& t = T.faces.tri[f];
+      const double exact = std::sqrt(sodt::pointTriangleDistance2(q, T.pos[t[0]], T.pos[t[1]], T.pos[t[2]]));
+      // The reference itself rounds at the scale of the coordinates (far
+      // from the origin, 1e-11 here): closer to the bound than that, either
+      // answer is right.
+      const Vec3& a = T.pos[t[0]];
+      const double band = 1e-13 * (std::abs(a[0]) + std::abs(a[1]) + std::abs(a[2]) + T.in.reach[f] + limit);
+      double dist = -1;
+      const bool got = T.in.nearFace(f, q, &dist);
+      if (std::abs(exact - limit) > band) ASSERT_EQ(got, want) << "face " << f << " sample " << s;
+      if (got) {
+        // The distance it reports bounds the exact one from above, closely.
+        ASSERT_GE(dist, exact - band) << "face " << f << " sample " << s;
+        ASSERT_LE(dist, exact + 1e-8 * (T.in.reach[f] + limit)) << "face " << f << " sample " << s;
+      }
+      ++tested;
+      near += want;
+      borderline += std::abs(std::abs(h) - limit) < 1e-6 * limit;
+    }
+  }
+  // Both answers occur often, and many samples sit at the bound.
+  EXPECT_GT(near, tested / 5);
+  EXPECT_LT(near, tested * 4 / 5);
+  EXPECT_GT(borderline, tested / 2);
+}
+
+}  // namespace
+
+/// The margins the guard reuses between visits only save distance queries:
+/// runs with and without them end bit for bit alike, with the same counters,
+/// while a good share of the checked points needs no query (most of them
+/// at the default bound). A tight bound (0.02%) makes the guard decide
+/// often; the noisy cube has creases and a corner.
+TEST(DeviationGuard, ReusedMarginsChangeNoResult) {
+  struct Case {
+    const char* mesh;
+    sodt::Algorithm algorithm;
+    sodt::Guard guard;
+    bool flips;
+    double bound;
+    double reusedShare;  ///< at least this share of the checked points
+  };
+  const Case cases[] = {
+      {"blobs_mc.ply", sodt::Algorithm::Basic, sodt::Guard::Fold, false, 0.001, 0.4},
+      {"blobs_mc.ply", sodt::Algorithm::Basic, sodt::Guard::Quality, false, 0.0002, 0.05},
+      {"blobs_mc.ply", sodt::Algorithm::Basic, sodt::Guard::Fold, true, 0.0002, 0.02},
+      {"cube_noisy.ply", sodt::Algorithm::Feature, sodt::Guard::Quality, false, 0.0002, 0.05},
+      {"sphere_jitter.ply", sodt::Algorithm::Odt, sodt::Guard::Fold, false, 0.0002, 0.05},
+  };
+  for (const Case& c : cases) {
+    const std::string what = std::string(c.mesh) + " " + sodt::toString(c.guard) + (c.flips ? " flips" : "");
+    sodt::MeshD input;
+    sodt::loadMesh(std::string(SODT_MESH_DIR) + "/" + c.mesh, input);
+    sodt::MeshD with, without;
+    vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(with, input);
+    vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(without, input);
+    sodt::SodtParams p;
+    p.algorithm = c.algorithm;
+    p.guard = c.guard;
+    p.flips = c.flips;
+    p.maxDeviationRel = c.bound;
+    p.iterations = 15;
+    p.threads = 2;
+    const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshD>::Apply(with, p);
+    p.reuseDeviationMargins = false;
+    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshD>::Apply(without, p);
+    EXPECT_TRUE(sodt_test::positions(with) == sodt_test::positions(without)) << what;
+    EXPECT_TRUE(sodt_test::faceIndices(with) == sodt_test::faceIndices(without)) << what;
+    EXPECT_EQ(a.moved, b.moved) << what;
+    EXPECT_EQ(a.backtracked, b.backtracked) << what;
+    EXPECT_EQ(a.fallbackMoves, b.fallbackMoves) << what;
+    EXPECT_EQ(a.rejected, b.rejected) << what;
+    EXPECT_EQ(a.flips, b.flips) << what;
+    EXPECT_EQ(b.deviationReused, 0) << what;
+    EXPECT_GT(a.moved + a.backtracked + a.fallbackMoves, 0) << what;
+    // The margins do get used, and only instead of queries.
+    EXPECT_GT(a.deviationReused, c.reusedShare * b.deviationQueries) << what;
+    EXPECT_EQ(a.deviationReused + a.deviationQueries, b.deviationQueries) << what;
+    std::printf("%s: %lld of %lld checked points answered from margins\n", what.c_str(), a.deviationReused,
+                b.deviationQueries);
+  }
+}
