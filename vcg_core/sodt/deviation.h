@@ -42,16 +42,17 @@ struct InputSurface {
     }
   }
 
-  /// True when q lies within the bound of input face f; then *dist (when
-  /// not null) gets an upper bound of q's distance to f (exceeding it by
-  /// about 1e-9 of the face's size at most).
-  bool nearFace(int f, const Vec3& q, double* dist = nullptr) const {
+  /// The cheap part of the face test: outside a ball around the face or
+  /// farther than the bound from its plane (Far), or over the face within
+  /// the bound of its plane (Near, *dist as for nearFace); Unsure otherwise.
+  enum class Quick { Far, Near, Unsure };
+  Quick quickTest(int f, const Vec3& q, double* dist) const {
     const std::array<int, 3>& t = faces->tri[f];
     const std::vector<Vec3>& P = *pos;
     const Vec3& a = P[t[0]];
     const Vec3 qa = q - a;
     const double r = reach[f] + limit;
-    if (qa.SquaredNorm() > r * r) return false;  // outside a ball holding the face and its margin
+    if (qa.SquaredNorm() > r * r) return Quick::Far;  // outside a ball holding the face and its margin
     const Vec3& b = P[t[1]];
     const Vec3& c = P[t[2]];
     const Vec3 ab = b - a, ac = c - a;
@@ -59,30 +60,58 @@ struct InputSurface {
     const double nn = n.SquaredNorm();
     // The plane tests need a normal that is not made of rounding errors, as
     // that of a face with (nearly) collinear corners is.
-    if (nn > 1e-12 * ab.SquaredNorm() * ac.SquaredNorm()) {
-      // Farther than the bound from the face's plane: farther from the face.
-      const double h = qa * n;
-      if (h * h > limit2 * nn) return false;
-      // Over the face (on the inner side of its three edges): the distance
-      // is the plane distance, already within the bound.
-      if (((ab ^ qa) * n) >= 0 && (((c - b) ^ (q - b)) * n) >= 0 && (((a - c) ^ (q - c)) * n) >= 0) {
-        if (dist) *dist = std::abs(h) / std::sqrt(nn) + 1e-9 * r;
-        return true;
-      }
+    if (!(nn > 1e-12 * ab.SquaredNorm() * ac.SquaredNorm())) return Quick::Unsure;
+    // Farther than the bound from the face's plane: farther from the face.
+    const double h = qa * n;
+    if (h * h > limit2 * nn) return Quick::Far;
+    // Over the face (on the inner side of its three edges): the distance is
+    // the plane distance, already within the bound. With e the edge and n
+    // the normal, (e x (q - corner)) . n is |e| |n| times q's signed
+    // distance from the edge's line within the plane.
+    const Vec3 bc = c - b, ca = a - c;
+    const double s[3] = {(ab ^ qa) * n, (bc ^ (q - b)) * n, (ca ^ (q - c)) * n};
+    if (s[0] >= 0 && s[1] >= 0 && s[2] >= 0) {
+      if (dist) *dist = std::abs(h) / std::sqrt(nn) + 1e-9 * r;
+      return Quick::Near;
     }
-    const double d2 = pointTriangleDistance2(q, a, b, c);
+    // Farther than the bound outside an edge's line: farther from the face.
+    const Vec3* edge[3] = {&ab, &bc, &ca};
+    for (int i = 0; i < 3; ++i)
+      if (s[i] < 0 && s[i] * s[i] > limit2 * edge[i]->SquaredNorm() * nn * (1 + 1e-9)) return Quick::Far;
+    return Quick::Unsure;
+  }
+
+  /// The exact face test, by the closest point of the face.
+  bool exactTest(int f, const Vec3& q, double* dist) const {
+    const std::array<int, 3>& t = faces->tri[f];
+    const std::vector<Vec3>& P = *pos;
+    const double d2 = pointTriangleDistance2(q, P[t[0]], P[t[1]], P[t[2]]);
     if (!(d2 <= limit2)) return false;
-    if (dist) *dist = std::sqrt(d2) + 1e-9 * r;
+    if (dist) *dist = std::sqrt(d2) + 1e-9 * (reach[f] + limit);
     return true;
+  }
+
+  /// True when q lies within the bound of input face f; then *dist (when
+  /// not null) gets an upper bound of q's distance to f (exceeding it by
+  /// about 1e-9 of the face's size at most).
+  bool nearFace(int f, const Vec3& q, double* dist = nullptr) const {
+    const Quick r = quickTest(f, q, dist);
+    return r == Quick::Unsure ? exactTest(f, q, dist) : r == Quick::Near;
   }
 
   /// A face of v's input patch within sqrt(limit2) of q, or -1 when there is
   /// none; *dist as for nearFace. The face hints (-1 for none) are tried
-  /// first; whether a face is found does not depend on them, only the time
-  /// does.
+  /// first, both by the cheap test before either by the exact one (an edge
+  /// midpoint is usually over one of the two faces beside its edge); whether
+  /// a face is found does not depend on them, only the time does.
   int nearFaceOf(int v, const Vec3& q, int hint, int hint2 = -1, double* dist = nullptr) const {
-    if (hint >= 0 && nearFace(hint, q, dist)) return hint;
-    if (hint2 >= 0 && hint2 != hint && nearFace(hint2, q, dist)) return hint2;
+    if (hint2 == hint) hint2 = -1;
+    const Quick r1 = hint >= 0 ? quickTest(hint, q, dist) : Quick::Far;
+    if (r1 == Quick::Near) return hint;
+    const Quick r2 = hint2 >= 0 ? quickTest(hint2, q, dist) : Quick::Far;
+    if (r2 == Quick::Near) return hint2;
+    if (r1 == Quick::Unsure && exactTest(hint, q, dist)) return hint;
+    if (r2 == Quick::Unsure && exactTest(hint2, q, dist)) return hint2;
     const RingTopology& T = *topo;
     const int b = T.ringBegin[v], e = T.ringBegin[v + 1];
     for (int k = b; k < e; ++k)
