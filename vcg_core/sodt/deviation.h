@@ -119,8 +119,13 @@ struct InputSurface {
     for (int k = b; k < e; ++k) {
       const int u = T.ringIdx[k];
       if (T.kind[u] != VertexKind::Interior) continue;
-      for (int j = T.ringBegin[u]; j < T.ringBegin[u + 1]; ++j)
+      const int ub = T.ringBegin[u], ue = T.ringBegin[u + 1];
+      for (int j = ub; j < ue; ++j) {
+        // Face j of u's star is (u, ring j, ring j + 1): one with v in it
+        // is one of v's own faces, tested above.
+        if (T.ringIdx[j] == v || T.ringIdx[j + 1 < ue ? j + 1 : ub] == v) continue;
         if (nearFace(T.ringFace[j], q, dist)) return T.ringFace[j];
+      }
     }
     return -1;
   }
