@@ -168,3 +168,16 @@ TEST(DeviationGuard, ReusedMarginsChangeNoResult) {
                 b.deviationQueries);
   }
 }
+
+/// Stored margins and odometers stay lower bounds of what they round,
+/// whatever the magnitude (beyond float's range too).
+TEST(DeviationGuard, FloatBelowIsALowerBound) {
+  const double values[] = {0.0, 1e-300, 1e-30, 0.1, 1.0 / 3.0, 12345.678, 3e38, 3.5e38, 1e100, 1e300,
+                           -1e-300, -0.1, -1.0 / 3.0, -3e38, -3.5e38, -1e100};
+  for (double x : values) {
+    const float f = sodt::InputSurface::floatBelow(x);
+    EXPECT_LE(static_cast<double>(f), x) << x;
+    if (std::abs(x) < 1e30 && std::abs(x) > 1e-30) EXPECT_GT(static_cast<double>(f), x - 1e-5 * std::abs(x)) << x;
+  }
+  EXPECT_TRUE(std::isnan(sodt::InputSurface::floatBelow(std::nan(""))));
+}

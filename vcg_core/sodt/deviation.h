@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace sodt {
@@ -146,9 +147,13 @@ struct InputSurface {
   };
 
   /// A float below x (by about 1e-6 of it), so that a stored margin stays a
-  /// lower bound.
+  /// lower bound; the largest float above that range, minus infinity below
+  /// it (and NaN for NaN).
   static float floatBelow(double x) {
-    return static_cast<float>(x > 0 ? x * (1 - 1e-6) : x * (1 + 1e-6) - 1e-30);
+    const double y = x > 0 ? x * (1 - 1e-6) : x * (1 + 1e-6) - 1e-30;
+    if (y >= std::numeric_limits<float>::max()) return std::numeric_limits<float>::max();
+    if (y <= -std::numeric_limits<float>::max()) return -std::numeric_limits<float>::infinity();
+    return static_cast<float>(y);
   }
 
   /// True when, with vertex v (the centre of st) at p, p and the centroids
