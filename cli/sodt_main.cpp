@@ -870,6 +870,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const Measures&
   j.member("skipped_visits", st.skipped);
   j.member("deviation_queries", st.deviationQueries);
   j.member("deviation_reused", st.deviationReused);
+  j.member("lane_visits", st.laneVisits);
   j.member("active_vertices", st.activeVertices);
   j.member("fixed_boundary", st.fixedBoundary);
   j.member("fixed_nonmanifold", st.fixedNonManifold);

@@ -699,7 +699,7 @@ TEST_F(CliTest, SmoothImprovesMinAngleAndWritesReport) {
         "backtracked", "rejected", "failed_solves", "unchanged", "fixed_boundary", "fixed_nonmanifold",
         "cancelled", "min_angle_before", "min_angle_after", "max_angle_before", "max_angle_after", "flips",
         "flips_enabled", "flip_max_dihedral", "keep_best", "tolerance", "returned_sweep", "stopped_early",
-        "threads", "skipped_visits", "deviation_queries", "deviation_reused"})
+        "threads", "skipped_visits", "deviation_queries", "deviation_reused", "lane_visits"})
     EXPECT_NE(json.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
   EXPECT_EQ(jsonNumber(json, "vertices"), mesh_.vertices());
   EXPECT_EQ(jsonNumber(json, "faces"), mesh_.faces());

@@ -68,6 +68,10 @@ struct SodtParams {
   /// the checked points, and skips the distance queries of later moves too
   /// short to use that margin up. The results are the same either way.
   bool reuseDeviationMargins = true;
+  /// Performance only: Algorithm 1 sweeps with Guard::None solve four
+  /// vertices at once in AVX2 lanes when the processor has them (see
+  /// lanes.h). The results are the same bit for bit either way.
+  bool simd = true;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.
   bool flips = false;
@@ -139,9 +143,11 @@ struct SodtStats {
   bool stoppedEarly = false;   ///< a sweep improved the quality by less than toleranceDeg
   bool cancelled = false;      ///< the progress callback asked to stop
   /// Visits (each also counted above, under the outcome it repeats) answered
-  /// without solving: the vertex did not move at its previous visit and
+  /// from the previous one: the vertex did not move at its previous visit and
   /// nothing in its star has moved since, so it would not move now either.
   long long skipped = 0;
+  /// Visits solved by the 4-lane kernel (see SodtParams::simd), skipped ones aside.
+  long long laneVisits = 0;
   /// Points the deviation guard checked (a vertex, a centroid or an edge
   /// midpoint of its star): by a distance query to the input, or from the
   /// margin the vertex's previous move left (see reuseDeviationMargins).

@@ -7,6 +7,7 @@
 #include "deviation.h"
 #include "fitting.h"
 #include "flips.h"
+#include "lanes.h"
 #include "local_solve.h"
 #include "odt.h"
 #include "params.h"
@@ -20,6 +21,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -239,25 +241,35 @@ struct SodtSmoother {
     int maxValence = 0;
     for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
     for (Scratch& s : scratch) s.reserve(maxValence);
+    // Algorithm 1 without guards: the 4-lane kernel when the processor has it.
+    const bool useLanes = p.simd && p.algorithm == Algorithm::Basic && p.guard == Guard::None &&
+                          lanes::available() && nv < std::numeric_limits<int>::max() / 3;
+    LanePlan lanePlan = useLanes ? planLanes(plan, topo) : LanePlan();
     int phase = 0;  // colours swept so far, over all sweeps
 
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
       const bool inputConnectivity = stats.flips == 0;
       for (std::size_t c = 0; c + 1 < plan.colourBegin.size(); ++c, ++phase) {
-        const int* vs = plan.order.data() + plan.colourBegin[c];
-        const int n = plan.colourBegin[c + 1] - plan.colourBegin[c];
-        const auto visitOne = [&](int j, Scratch& sc) {
-          const int i = vs[j];
-          if (lastVisit[i] >= 0 && !moves(lastOutcome[i])) {
-            bool still = true;
-            for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1] && still; ++k)
-              still = movedAt[topo.ringIdx[k]] < lastVisit[i];
-            if (still) {
-              ++sc.count[static_cast<int>(lastOutcome[i])];
-              ++sc.skipped;
-              return;
-            }
-          }
+        // A visit whose outcome did not move the vertex need not be repeated
+        // while nothing in its star has moved since.
+        const auto still = [&](int i) {
+          if (lastVisit[i] < 0 || moves(lastOutcome[i])) return false;
+          for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k)
+            if (movedAt[topo.ringIdx[k]] >= lastVisit[i]) return false;
+          return true;
+        };
+        const auto skip = [&](int i, Scratch& sc) {
+          ++sc.count[static_cast<int>(lastOutcome[i])];
+          ++sc.skipped;
+        };
+        const auto record = [&](int i, Outcome o, Scratch& sc) {
+          ++sc.count[static_cast<int>(o)];
+          lastVisit[i] = phase;
+          lastOutcome[i] = o;
+          if (moves(o)) movedAt[i] = phase;
+        };
+        const auto visitOne = [&](int i, Scratch& sc) {
+          if (still(i)) return skip(i, sc);
           Star& star = sc.star;
           const int b = topo.ringBegin[i], e = topo.ringBegin[i + 1];
           star.center = pos[i];
@@ -286,31 +298,69 @@ struct SodtSmoother {
           }
           const Vec3 from = pos[i];
           const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, budget, pos[i]);
-          ++sc.count[static_cast<int>(o)];
           sc.queried += budget.queried;
           sc.reused += budget.reused;
-          lastVisit[i] = phase;
-          lastOutcome[i] = o;
-          if (moves(o)) {
-            movedAt[i] = phase;
-            if (deviationGuard && p.reuseDeviationMargins) {
-              odo[i] += (pos[i] - from).Norm();
-              pointMargin[i] = budget.next.point;
-              for (int k = b; k < e; ++k) {
-                slotMargin[k] = sc.nextSlot[k - b];
-                slotOdo[k] = InputSurface::floatBelow(odo[topo.ringIdx[k]]);
-              }
+          record(i, o, sc);
+          if (moves(o) && deviationGuard && p.reuseDeviationMargins) {
+            odo[i] += (pos[i] - from).Norm();
+            pointMargin[i] = budget.next.point;
+            for (int k = b; k < e; ++k) {
+              slotMargin[k] = sc.nextSlot[k - b];
+              slotOdo[k] = InputSurface::floatBelow(odo[topo.ringIdx[k]]);
             }
           }
         };
+        if (useLanes) {
+          // Four vertices of equal valence per kernel call, then the rest
+          // one by one: all of one colour, so the order does not matter.
+          const int g0 = lanePlan.groupBegin[c], ng = lanePlan.groupBegin[c + 1] - g0;
+          const int* rest = lanePlan.rest.data() + lanePlan.restBegin[c];
+          const int nr = lanePlan.restBegin[c + 1] - lanePlan.restBegin[c];
+          const auto visitGroup = [&](int g, Scratch& sc) {
+            const int* vs = lanePlan.vertex.data() + lanes::kWidth * g;
+            int begin[lanes::kWidth];
+            for (int l = 0; l < lanes::kWidth; ++l) begin[l] = topo.ringBegin[vs[l]];
+            lanes::Targets t;
+            lanes::targets4(&pos[0][0], topo.ringIdx.data(), begin, vs, lanePlan.valence[g], t);
+            for (int l = 0; l < lanes::kWidth; ++l) {
+              const int i = vs[l];
+              if (still(i)) {
+                skip(i, sc);  // the kernel's answer is the one recorded last time
+                continue;
+              }
+              const Outcome o =
+                  (t.ok >> l & 1) ? commitUnguarded(Vec3(t.x[l], t.y[l], t.z[l]), pos[i]) : Outcome::Failed;
+              record(i, o, sc);
+              ++sc.laneVisits;
+            }
+          };
+#ifdef _OPENMP
+          if (threads > 1 && lanes::kWidth * ng + nr >= kMinParallelColour) {
+#pragma omp parallel num_threads(threads)
+            {
+              Scratch& sc = scratch[omp_get_thread_num()];
+#pragma omp for schedule(static) nowait
+              for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
+#pragma omp for schedule(static)
+              for (int j = 0; j < nr; ++j) visitOne(rest[j], sc);
+            }
+            continue;
+          }
+#endif
+          for (int g = 0; g < ng; ++g) visitGroup(g0 + g, scratch[0]);
+          for (int j = 0; j < nr; ++j) visitOne(rest[j], scratch[0]);
+          continue;
+        }
+        const int* vs = plan.order.data() + plan.colourBegin[c];
+        const int n = plan.colourBegin[c + 1] - plan.colourBegin[c];
 #ifdef _OPENMP
         if (threads > 1 && n >= kMinParallelColour) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-          for (int j = 0; j < n; ++j) visitOne(j, scratch[omp_get_thread_num()]);
+          for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()]);
           continue;
         }
 #endif
-        for (int j = 0; j < n; ++j) visitOne(j, scratch[0]);
+        for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[0]);
       }
       ++stats.iterations;
       if (p.flips) {
@@ -324,6 +374,7 @@ struct SodtSmoother {
           stats.flips += flipped;
           topo = buildRingTopology(faces, deleted);
           plan = colourVertices(topo, active);
+          if (useLanes) lanePlan = planLanes(plan, topo);
           for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
           for (Scratch& s : scratch) s.reserve(maxValence);
           std::fill(lastVisit.begin(), lastVisit.end(), -1);  // stars changed: visit everything again
@@ -364,6 +415,7 @@ struct SodtSmoother {
       stats.skipped += sc.skipped;
       stats.deviationQueries += sc.queried;
       stats.deviationReused += sc.reused;
+      stats.laneVisits += sc.laneVisits;
     }
     stats.returnedSweep = stats.iterations;
     if (p.keepBest && bestSweep != stats.iterations) {
@@ -499,6 +551,7 @@ struct SodtSmoother {
     std::array<long long, kOutcomes> count{};
     long long skipped = 0;
     long long queried = 0, reused = 0;  ///< deviation-guard points, see SodtStats
+    long long laneVisits = 0;
     std::vector<double> drift;  ///< see Budget
     std::vector<float> nextSlot;
     /// Sized up front so that no visit allocates (allocation inside a
@@ -670,6 +723,61 @@ struct SodtSmoother {
     return pr;
   }
 
+  /// Commits an unguarded move to target into x. Unguarded updates can
+  /// diverge; a position the mesh cannot hold (too large for its scalar
+  /// type) is never written.
+  static Outcome commitUnguarded(const Vec3& target, Vec3& x) {
+    const Vec3 y = representable(target);
+    if (!isFinite(y)) return Outcome::Failed;
+    if (y == x) return Outcome::Unchanged;
+    x = y;
+    return Outcome::Moved;
+  }
+
+  /// The sweep plan regrouped for lanes::targets4: per colour, groups of
+  /// lanes::kWidth vertices of equal valence (3 to lanes::kMaxValence),
+  /// each group complete where its last member comes in the colour's order,
+  /// then the vertices left over.
+  struct LanePlan {
+    std::vector<int> vertex;      ///< lanes::kWidth per group
+    std::vector<int> valence;     ///< per group
+    std::vector<int> groupBegin;  ///< per colour, first group (colours + 1 entries)
+    std::vector<int> rest;        ///< visited one by one
+    std::vector<int> restBegin;   ///< per colour, into rest (colours + 1 entries)
+  };
+
+  static LanePlan planLanes(const SweepPlan& plan, const RingTopology& topo) {
+    LanePlan lp;
+    const std::size_t colours = plan.colourBegin.size() - 1;
+    lp.vertex.reserve(plan.order.size());
+    lp.rest.reserve(plan.order.size() / 8);
+    lp.groupBegin.push_back(0);
+    lp.restBegin.push_back(0);
+    std::array<std::vector<int>, lanes::kMaxValence + 1> open;  // per valence, a group being filled
+    for (std::size_t c = 0; c < colours; ++c) {
+      for (int j = plan.colourBegin[c]; j < plan.colourBegin[c + 1]; ++j) {
+        const int v = plan.order[j], n = topo.ringSize(v);
+        if (n < 3 || n > lanes::kMaxValence) {
+          lp.rest.push_back(v);
+          continue;
+        }
+        open[n].push_back(v);
+        if (static_cast<int>(open[n].size()) == lanes::kWidth) {
+          lp.vertex.insert(lp.vertex.end(), open[n].begin(), open[n].end());
+          lp.valence.push_back(n);
+          open[n].clear();
+        }
+      }
+      for (std::vector<int>& g : open) {
+        lp.rest.insert(lp.rest.end(), g.begin(), g.end());
+        g.clear();
+      }
+      lp.groupBegin.push_back(static_cast<int>(lp.valence.size()));
+      lp.restBegin.push_back(static_cast<int>(lp.rest.size()));
+    }
+    return lp;
+  }
+
   /// Proposes, guards and commits the move of vertex i into x. hints: the
   /// input face of each star triangle while the connectivity is the input's.
   static Outcome visitVertex(const Context& c, int i, const Star& star, const int* hints, int& pointHint, Scratch& sc,
@@ -677,15 +785,7 @@ struct SodtSmoother {
     const Proposal pr = propose(c, i, star);
     if (!pr.ok) return Outcome::Failed;
     const SodtParams& p = c.p;
-    if (p.guard == Guard::None) {
-      // Unguarded updates can diverge; a position the mesh cannot hold (too
-      // large for its scalar type) is never written.
-      const Vec3 y = representable(pr.target);
-      if (!isFinite(y)) return Outcome::Failed;
-      if (y == x) return Outcome::Unchanged;
-      x = y;
-      return Outcome::Moved;
-    }
+    if (p.guard == Guard::None) return commitUnguarded(pr.target, x);
     const double before = p.guard == Guard::Quality ? starMinAngleCos2(star, star.center) : 1.0;
     foldReferences(star, pr.normal, sc.foldRef);
     ringEdgeLengths2(star, sc.ringEdge2);

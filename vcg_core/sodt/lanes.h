@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The Algorithm 1 target (tangent plane of Eq. 4, minimiser of Eq. 5) for
+// four vertices at once, one per AVX2 lane. Every lane performs the
+// operations of starNormal and solveStar (local_solve.h) in the same order,
+// with no fused multiply-add, so each lane's result is bit for bit the one
+// the scalar code gives. Builds without x86 GCC/Clang, or with SODT_NO_LANES
+// defined, have no kernel and use the scalar code.
+#pragma once
+
+#include "geometry.h"
+
+#include <limits>
+
+#if !defined(SODT_NO_LANES) && (defined(__GNUC__) || defined(__clang__)) && \
+    (defined(__x86_64__) || defined(__i386__))
+#define SODT_HAVE_LANES 1
+#include <immintrin.h>
+#endif
+
+namespace sodt {
+namespace lanes {
+
+/// Vertices per call.
+constexpr int kWidth = 4;
+/// Largest valence the kernel takes (its ring is kept in registers and on
+/// the stack); rarer, larger stars go through the scalar code.
+constexpr int kMaxValence = 12;
+
+/// Output of targets4.
+struct Targets {
+  double x[kWidth], y[kWidth], z[kWidth];
+  /// Bit l set: lane l's solve succeeded (solveStar's ok) and its target is
+  /// (x[l], y[l], z[l]); clear: the solve failed and the target is unset.
+  int ok = 0;
+};
+
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "positions must be packed x, y, z doubles");
+
+/// True when this build has the kernel and the processor can run it.
+inline bool available() {
+#ifdef SODT_HAVE_LANES
+  static const bool ok = __builtin_cpu_supports("avx2") != 0;
+  return ok;
+#else
+  return false;
+#endif
+}
+
+#ifdef SODT_HAVE_LANES
+namespace detail {
+// "avx2" only: without the "fma" feature the compiler cannot contract a
+// product and a sum into one rounding, so every operation rounds as the
+// scalar code's does.
+#define SODT_LANES_TARGET __attribute__((target("avx2")))
+
+struct V3 {
+  __m256d x, y, z;
+};
+
+SODT_LANES_TARGET inline __m256d add(__m256d a, __m256d b) { return _mm256_add_pd(a, b); }
+SODT_LANES_TARGET inline __m256d sub(__m256d a, __m256d b) { return _mm256_sub_pd(a, b); }
+SODT_LANES_TARGET inline __m256d mul(__m256d a, __m256d b) { return _mm256_mul_pd(a, b); }
+/// a * b + c * d, rounded after each operation.
+SODT_LANES_TARGET inline __m256d mulAdd2(__m256d a, __m256d b, __m256d c, __m256d d) {
+  return add(mul(a, b), mul(c, d));
+}
+/// a * b - c * d, rounded after each operation.
+SODT_LANES_TARGET inline __m256d mulSub2(__m256d a, __m256d b, __m256d c, __m256d d) {
+  return sub(mul(a, b), mul(c, d));
+}
+/// u . v as vcg's Point3 computes it: (x x' + y y') + z z'.
+SODT_LANES_TARGET inline __m256d dot(const V3& u, const V3& v) {
+  return add(add(mul(u.x, v.x), mul(u.y, v.y)), mul(u.z, v.z));
+}
+/// u x v as vcg's Point3 computes it.
+SODT_LANES_TARGET inline V3 cross(const V3& u, const V3& v) {
+  return V3{mulSub2(u.y, v.z, u.z, v.y), mulSub2(u.z, v.x, u.x, v.z), mulSub2(u.x, v.y, u.y, v.x)};
+}
+SODT_LANES_TARGET inline V3 scale(const V3& u, __m256d s) { return V3{mul(u.x, s), mul(u.y, s), mul(u.z, s)}; }
+SODT_LANES_TARGET inline __m256d absv(__m256d a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
+/// All-ones in the lanes where a is finite (std::isfinite).
+SODT_LANES_TARGET inline __m256d finite(__m256d a) {
+  return _mm256_cmp_pd(absv(a), _mm256_set1_pd(std::numeric_limits<double>::infinity()), _CMP_LT_OQ);
+}
+/// Loads coordinate 0, 1 or 2 of the four vertices whose indices times 3 are idx3.
+/// (The masked form with a zero source: GCC 12 warns that the plain form's
+/// undefined source is used uninitialised.)
+SODT_LANES_TARGET inline __m256d gather1(const double* base, __m128i idx3) {
+  const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, idx3, all, 8);
+}
+SODT_LANES_TARGET inline V3 gather(const double* pos, __m128i idx3) {
+  return V3{gather1(pos, idx3), gather1(pos + 1, idx3), gather1(pos + 2, idx3)};
+}
+/// A ring vertex P in the frame (s, t, n), and |P|^2.
+struct Local {
+  __m256d x, y, z, len2;
+};
+SODT_LANES_TARGET inline Local local(const V3& P, const V3& s, const V3& t, const V3& n) {
+  return Local{dot(s, P), dot(t, P), dot(n, P), dot(P, P)};
+}
+SODT_LANES_TARGET inline __m128i times3(__m128i i) { return _mm_add_epi32(_mm_add_epi32(i, i), i); }
+}  // namespace detail
+
+/// For four interior vertices with the same valence n (3 <= n <= kMaxValence),
+/// computes what solveStar(star) gives for each: the star's centre is
+/// pos[centre[l]] and its ring pos[ringIdx[begin[l] + k]], k < n, in cyclic
+/// order. pos holds x, y, z per vertex; 3 * (vertex count) must fit an int.
+SODT_LANES_TARGET inline void targets4(const double* pos, const int* ringIdx, const int* begin, const int* centre,
+                                       int n, Targets& out) {
+  using namespace detail;
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const __m128i beginV = _mm_loadu_si128(reinterpret_cast<const __m128i*>(begin));
+  const V3 c = gather(pos, times3(_mm_loadu_si128(reinterpret_cast<const __m128i*>(centre))));
+
+  // The ring relative to the centre, and the area-weighted normal (starNormal).
+  V3 X[kMaxValence];
+  for (int k = 0; k < n; ++k) {
+    const __m128i idx = _mm_mask_i32gather_epi32(_mm_setzero_si128(), ringIdx, _mm_add_epi32(beginV, _mm_set1_epi32(k)),
+                                                 _mm_set1_epi32(-1), 4);
+    const V3 p = gather(pos, times3(idx));
+    X[k] = V3{sub(p.x, c.x), sub(p.y, c.y), sub(p.z, c.z)};
+  }
+  V3 sum{zero, zero, zero};
+  for (int k = 0; k < n; ++k) {
+    const V3 a = cross(X[k], X[k + 1 < n ? k + 1 : 0]);
+    sum = V3{add(sum.x, a.x), add(sum.y, a.y), add(sum.z, a.z)};
+  }
+  const __m256d len = _mm256_sqrt_pd(dot(sum, sum));
+  __m256d ok = _mm256_and_pd(_mm256_cmp_pd(len, zero, _CMP_GT_OQ), finite(len));
+  const V3 nrm = scale(sum, _mm256_div_pd(one, len));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(dot(nrm, nrm), zero, _CMP_NEQ_UQ));
+
+  // tangentFrame: s = n x e with e the axis least aligned with n, normalised; t = n x s.
+  const __m256d ax = absv(nrm.x), ay = absv(nrm.y), az = absv(nrm.z);
+  const __m256d pickX = _mm256_and_pd(_mm256_cmp_pd(ax, ay, _CMP_LE_OQ), _mm256_cmp_pd(ax, az, _CMP_LE_OQ));
+  const __m256d pickY = _mm256_andnot_pd(pickX, _mm256_cmp_pd(ay, az, _CMP_LE_OQ));
+  const __m256d pickZ = _mm256_andnot_pd(_mm256_or_pd(pickX, pickY), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
+  const V3 e{_mm256_and_pd(pickX, one), _mm256_and_pd(pickY, one), _mm256_and_pd(pickZ, one)};
+  V3 s = cross(nrm, e);
+  s = scale(s, _mm256_div_pd(one, _mm256_sqrt_pd(dot(s, s))));
+  const V3 t = cross(nrm, s);
+
+  // sodtCoefficients.
+  __m256d C = zero, E = zero, F = zero, G = zero, H = zero, I = zero;
+  const Local first = local(X[0], s, t, nrm);
+  Local a = first;
+  for (int k = 0; k < n; ++k) {
+    const Local b = k + 1 < n ? local(X[k + 1], s, t, nrm) : first;
+    const __m256d sw = sub(b.y, a.y), tw = sub(a.x, b.x);
+    const __m256d cc = mulSub2(a.x, b.y, a.y, b.x);
+    const __m256d ss = add(a.x, b.x), ts = add(a.y, b.y);
+    const __m256d r = sub(add(a.len2, b.len2), add(add(mul(a.x, b.x), mul(a.y, b.y)), mul(a.z, b.z)));
+    C = add(C, cc);
+    E = add(E, mul(ss, sw));
+    F = add(F, mul(ts, tw));
+    G = add(G, mulAdd2(ss, tw, ts, sw));
+    H = add(H, mulAdd2(ss, cc, r, sw));
+    I = add(I, mulAdd2(ts, cc, r, tw));
+    a = b;
+  }
+  E = add(E, C);
+  F = add(F, C);
+
+  // The 2x2 solve of solveStar.
+  const __m256d four = _mm256_set1_pd(4.0), two = _mm256_set1_pd(2.0);
+  const __m256d det = sub(mul(mul(four, E), F), mul(G, G));
+  const __m256d scl = add(mul(four, absv(mul(E, F))), mul(G, G));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(E, zero, _CMP_GT_OQ));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(det, mul(_mm256_set1_pd(1e-12), scl), _CMP_GT_OQ));
+  const __m256d inv = _mm256_div_pd(one, det);
+  const __m256d u = mul(sub(mul(mul(two, F), H), mul(G, I)), inv);
+  const __m256d v = mul(sub(mul(mul(two, E), I), mul(G, H)), inv);
+  const V3 target{add(add(c.x, mul(s.x, u)), mul(t.x, v)), add(add(c.y, mul(s.y, u)), mul(t.y, v)),
+                  add(add(c.z, mul(s.z, u)), mul(t.z, v))};
+  ok = _mm256_and_pd(ok, _mm256_and_pd(finite(target.x), _mm256_and_pd(finite(target.y), finite(target.z))));
+  _mm256_storeu_pd(out.x, target.x);
+  _mm256_storeu_pd(out.y, target.y);
+  _mm256_storeu_pd(out.z, target.z);
+  out.ok = _mm256_movemask_pd(ok);
+}
+#undef SODT_LANES_TARGET
+#endif
+
+}  // namespace lanes
+}  // namespace sodt
