@@ -95,7 +95,9 @@ TEST(Lanes, KernelMatchesTheScalarSolveBitForBit) {
       stars[l].ring.assign(pts.begin() + 1, pts.end());
     }
     sodt::lanes::Targets t;
-    sodt::lanes::targets4(&pos[0][0], ringIdx.data(), begin.data(), centre.data(), n, t);
+    std::vector<int> table(sodt::lanes::kWidth * (n + 1));
+    sodt::lanes::packGroup(centre.data(), ringIdx.data(), begin.data(), n, table.data());
+    sodt::lanes::targets4(&pos[0][0], table.data(), n, t);
     for (int l = 0; l < sodt::lanes::kWidth; ++l) {
       const sodt::LocalMove mv = sodt::solveStar(stars[l]);
       const bool ok = (t.ok >> l & 1) != 0;

@@ -46,6 +46,17 @@ inline bool available() {
 #endif
 }
 
+/// Writes the index table of a group for targets4: (n + 1) rows of kWidth
+/// entries, row 0 the lanes' centres, row k + 1 their k-th ring vertices
+/// (star l has centre centre[l] and ring ringIdx[begin[l] + k], k < n, in
+/// cyclic order), each index times 3, the offset of its x in pos.
+inline void packGroup(const int* centre, const int* ringIdx, const int* begin, int n, int* table) {
+  for (int l = 0; l < kWidth; ++l) {
+    table[l] = 3 * centre[l];
+    for (int k = 0; k < n; ++k) table[kWidth * (k + 1) + l] = 3 * ringIdx[begin[l] + k];
+  }
+}
+
 #ifdef SODT_HAVE_LANES
 namespace detail {
 // "avx2" only: without the "fma" feature the compiler cannot contract a
@@ -82,7 +93,7 @@ SODT_LANES_TARGET inline __m256d absv(__m256d a) { return _mm256_andnot_pd(_mm25
 SODT_LANES_TARGET inline __m256d finite(__m256d a) {
   return _mm256_cmp_pd(absv(a), _mm256_set1_pd(std::numeric_limits<double>::infinity()), _CMP_LT_OQ);
 }
-/// Loads coordinate 0, 1 or 2 of the four vertices whose indices times 3 are idx3.
+/// Loads the four vertices whose indices times 3 are idx3.
 /// (The masked form with a zero source: GCC 12 warns that the plain form's
 /// undefined source is used uninitialised.)
 SODT_LANES_TARGET inline __m256d gather1(const double* base, __m128i idx3) {
@@ -99,26 +110,20 @@ struct Local {
 SODT_LANES_TARGET inline Local local(const V3& P, const V3& s, const V3& t, const V3& n) {
   return Local{dot(s, P), dot(t, P), dot(n, P), dot(P, P)};
 }
-SODT_LANES_TARGET inline __m128i times3(__m128i i) { return _mm_add_epi32(_mm_add_epi32(i, i), i); }
 }  // namespace detail
 
-/// For four interior vertices with the same valence n (3 <= n <= kMaxValence),
-/// computes what solveStar(star) gives for each: the star's centre is
-/// pos[centre[l]] and its ring pos[ringIdx[begin[l] + k]], k < n, in cyclic
-/// order. pos holds x, y, z per vertex; 3 * (vertex count) must fit an int.
-SODT_LANES_TARGET inline void targets4(const double* pos, const int* ringIdx, const int* begin, const int* centre,
-                                       int n, Targets& out) {
-  using namespace detail;
+namespace detail {
+/// targets4 for valence n, known at compile time so that the loops unroll.
+template <int n>
+SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targets& out) {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-  const __m128i beginV = _mm_loadu_si128(reinterpret_cast<const __m128i*>(begin));
-  const V3 c = gather(pos, times3(_mm_loadu_si128(reinterpret_cast<const __m128i*>(centre))));
+  const __m128i* row = reinterpret_cast<const __m128i*>(table);  // row r: kWidth ints
+  const V3 c = gather(pos, _mm_loadu_si128(row));
 
   // The ring relative to the centre, and the area-weighted normal (starNormal).
-  V3 X[kMaxValence];
+  V3 X[n];
   for (int k = 0; k < n; ++k) {
-    const __m128i idx = _mm_mask_i32gather_epi32(_mm_setzero_si128(), ringIdx, _mm_add_epi32(beginV, _mm_set1_epi32(k)),
-                                                 _mm_set1_epi32(-1), 4);
-    const V3 p = gather(pos, times3(idx));
+    const V3 p = gather(pos, _mm_loadu_si128(row + k + 1));
     X[k] = V3{sub(p.x, c.x), sub(p.y, c.y), sub(p.z, c.z)};
   }
   V3 sum{zero, zero, zero};
@@ -178,6 +183,27 @@ SODT_LANES_TARGET inline void targets4(const double* pos, const int* ringIdx, co
   _mm256_storeu_pd(out.y, target.y);
   _mm256_storeu_pd(out.z, target.z);
   out.ok = _mm256_movemask_pd(ok);
+}
+}  // namespace detail
+
+/// For four interior vertices with the same valence n (3 <= n <= kMaxValence),
+/// computes what solveStar(star) gives for each. pos holds x, y, z per
+/// vertex; table is the group's index table (see packGroup).
+SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int n, Targets& out) {
+  using detail::targetsN;
+  switch (n) {
+    case 3: return targetsN<3>(pos, table, out);
+    case 4: return targetsN<4>(pos, table, out);
+    case 5: return targetsN<5>(pos, table, out);
+    case 6: return targetsN<6>(pos, table, out);
+    case 7: return targetsN<7>(pos, table, out);
+    case 8: return targetsN<8>(pos, table, out);
+    case 9: return targetsN<9>(pos, table, out);
+    case 10: return targetsN<10>(pos, table, out);
+    case 11: return targetsN<11>(pos, table, out);
+    case 12: return targetsN<12>(pos, table, out);
+    default: out.ok = 0; return;
+  }
 }
 #undef SODT_LANES_TARGET
 #endif

@@ -318,10 +318,8 @@ struct SodtSmoother {
           const int nr = lanePlan.restBegin[c + 1] - lanePlan.restBegin[c];
           const auto visitGroup = [&](int g, Scratch& sc) {
             const int* vs = lanePlan.vertex.data() + lanes::kWidth * g;
-            int begin[lanes::kWidth];
-            for (int l = 0; l < lanes::kWidth; ++l) begin[l] = topo.ringBegin[vs[l]];
             lanes::Targets t;
-            lanes::targets4(&pos[0][0], topo.ringIdx.data(), begin, vs, lanePlan.valence[g], t);
+            lanes::targets4(&pos[0][0], lanePlan.table.data() + lanePlan.tableBegin[g], lanePlan.valence[g], t);
             for (int l = 0; l < lanes::kWidth; ++l) {
               const int i = vs[l];
               if (still(i)) {
@@ -741,6 +739,8 @@ struct SodtSmoother {
   struct LanePlan {
     std::vector<int> vertex;      ///< lanes::kWidth per group
     std::vector<int> valence;     ///< per group
+    std::vector<int> table;       ///< the groups' index tables (lanes::packGroup)
+    std::vector<std::size_t> tableBegin;  ///< per group, into table
     std::vector<int> groupBegin;  ///< per colour, first group (colours + 1 entries)
     std::vector<int> rest;        ///< visited one by one
     std::vector<int> restBegin;   ///< per colour, into rest (colours + 1 entries)
@@ -750,6 +750,7 @@ struct SodtSmoother {
     LanePlan lp;
     const std::size_t colours = plan.colourBegin.size() - 1;
     lp.vertex.reserve(plan.order.size());
+    lp.table.reserve(plan.order.size() + topo.ringIdx.size());
     lp.rest.reserve(plan.order.size() / 8);
     lp.groupBegin.push_back(0);
     lp.restBegin.push_back(0);
@@ -763,6 +764,11 @@ struct SodtSmoother {
         }
         open[n].push_back(v);
         if (static_cast<int>(open[n].size()) == lanes::kWidth) {
+          int begin[lanes::kWidth];
+          for (int l = 0; l < lanes::kWidth; ++l) begin[l] = topo.ringBegin[open[n][l]];
+          lp.tableBegin.push_back(lp.table.size());
+          lp.table.resize(lp.table.size() + lanes::kWidth * (n + 1));
+          lanes::packGroup(open[n].data(), topo.ringIdx.data(), begin, n, lp.table.data() + lp.tableBegin.back());
           lp.vertex.insert(lp.vertex.end(), open[n].begin(), open[n].end());
           lp.valence.push_back(n);
           open[n].clear();
