@@ -164,10 +164,11 @@ struct InputSurface {
   /// edges that cut across a crease or a bend. A vertex that is not interior
   /// in the input is not restricted.
   ///
-  /// hints, when not null, gives per star triangle the input face it came
-  /// from (valid while the connectivity is the input's); pointHint is a face
-  /// to try first for p (-1 for none), set to the face found. They only save
-  /// time.
+  /// hints, when not null, gives per star triangle an input face to try
+  /// first for its centroid (-1 for none), and is set to the face found
+  /// there; the midpoint of the edge to ring vertex k tries the faces of
+  /// triangles k and k - 1 first. pointHint does the same for p. Hints only
+  /// save time: any input face index (or -1) gives the same answer.
   ///
   /// last holds the margins of the vertex's last accepted move (or none):
   /// the distance to the input is 1-Lipschitz; since that move the vertex
@@ -179,7 +180,7 @@ struct InputSurface {
   /// the margins. After a true answer, next holds the margins of the new
   /// position (next.slot must have star-size entries). Adds the points it
   /// queried and those it answered from the margins to the counts.
-  bool keeps(int v, const Star& st, const Vec3& p, const int* hints, int& pointHint, double step,
+  bool keeps(int v, const Star& st, const Vec3& p, int* hints, int& pointHint, double step,
              const double* drift, const Margins& last, Margins& next, long long& queried, long long& reused) const {
     const std::size_t n = st.size();
     if (topo->kind[v] != VertexKind::Interior) {  // unrestricted
@@ -208,9 +209,11 @@ struct InputSurface {
       }
       queried += 2;
       double dc = 0, dm = 0;
-      if (!near(v, (p + st.ring[k] + st.at(k + 1)) / 3.0, hints ? hints[k] : -1, &dc)) return false;
+      const int fc = nearFaceOf(v, (p + st.ring[k] + st.at(k + 1)) / 3.0, hints ? hints[k] : -1, -1, &dc);
+      if (fc < 0) return false;
+      if (hints) hints[k] = fc;
       const int before = hints ? hints[k == 0 ? n - 1 : k - 1] : -1;
-      if (nearFaceOf(v, (p + st.ring[k]) * 0.5, hints ? hints[k] : -1, before, &dm) < 0) return false;
+      if (nearFaceOf(v, (p + st.ring[k]) * 0.5, fc, before, &dm) < 0) return false;
       next.slot[k] = floatBelow(limit - std::max(dc, dm));
     }
     return true;

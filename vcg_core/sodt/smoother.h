@@ -237,6 +237,9 @@ struct SodtSmoother {
     std::vector<double> odo(deviationGuard ? nv : 0, 0.0);
     std::vector<float> pointMargin(deviationGuard ? nv : 0, -1.f);
     std::vector<float> slotMargin(ringSlots, -1.f), slotOdo(ringSlots, 0.f);
+    // Per ring slot, the input face the centroid of that star triangle was
+    // last found near; at first, the face the triangle is in the input.
+    std::vector<int> slotHint = deviationGuard ? topo.ringFace : std::vector<int>();
     std::vector<Scratch> scratch(threads);
     int maxValence = 0;
     for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
@@ -248,7 +251,6 @@ struct SodtSmoother {
     int phase = 0;  // colours swept so far, over all sweeps
 
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
-      const bool inputConnectivity = stats.flips == 0;
       for (std::size_t c = 0; c + 1 < plan.colourBegin.size(); ++c, ++phase) {
         // A visit whose outcome did not move the vertex need not be repeated
         // while nothing in its star has moved since.
@@ -279,7 +281,7 @@ struct SodtSmoother {
             star.refNormal.resize(e - b);
             for (int k = b; k < e; ++k) star.refNormal[k - b] = faceNormal[topo.ringFace[k]];
           }
-          const int* hints = inputConnectivity ? topo.ringFace.data() + b : nullptr;
+          int* hints = deviationGuard ? slotHint.data() + b : nullptr;
           Budget budget;
           if (deviationGuard) {
             // Path lengths grow by rounding too: a margin of 1e-12 of them.
@@ -380,6 +382,7 @@ struct SodtSmoother {
             std::fill(pointMargin.begin(), pointMargin.end(), -1.f);
             slotMargin.assign(topo.ringIdx.size(), -1.f);
             slotOdo.assign(topo.ringIdx.size(), 0.f);
+            slotHint.assign(topo.ringIdx.size(), -1);
           }
         }
       }
@@ -606,7 +609,7 @@ struct SodtSmoother {
   /// Tries the step from the centre towards target, shortened by halvings,
   /// under the guard. Returns the number of halvings used, -1 when every
   /// length was vetoed, -2 when the step rounds to no move at all.
-  static int tryStep(const Context& c, int i, const Star& star, const int* hints, const std::vector<Vec3>& foldRef,
+  static int tryStep(const Context& c, int i, const Star& star, int* hints, const std::vector<Vec3>& foldRef,
                      const std::vector<double>& ringEdge2, const Vec3& target, double minAngleCos2Before,
                      int& pointHint, Budget& budget, Vec3& x) {
     const SodtParams& p = c.p;
@@ -784,9 +787,10 @@ struct SodtSmoother {
     return lp;
   }
 
-  /// Proposes, guards and commits the move of vertex i into x. hints: the
-  /// input face of each star triangle while the connectivity is the input's.
-  static Outcome visitVertex(const Context& c, int i, const Star& star, const int* hints, int& pointHint, Scratch& sc,
+  /// Proposes, guards and commits the move of vertex i into x. hints: per
+  /// star triangle, an input face for the deviation guard to try first (see
+  /// InputSurface::keeps), or null.
+  static Outcome visitVertex(const Context& c, int i, const Star& star, int* hints, int& pointHint, Scratch& sc,
                              Budget& budget, Vec3& x) {
     const Proposal pr = propose(c, i, star);
     if (!pr.ok) return Outcome::Failed;
