@@ -259,8 +259,9 @@ struct Row {
   int sweeps = 0;         ///< sweeps per timed call
   double msPerSweep = 0;  ///< median over the timed calls of (call time / sweeps)
   double setupMs = 0;     ///< S-ODT: a call with iterations = 0; Laplacian: FF topology + border flags
-  /// S-ODT: (median call time - set-up) / sweeps, the sweeps alone; the
-  /// Laplacian's msPerSweep already excludes its set-up.
+  /// S-ODT: the median over the timed calls of SodtStats::sweepSeconds /
+  /// sweeps, the sweeps alone as Apply times them; the Laplacian's
+  /// msPerSweep already excludes its set-up.
   double sweepOnlyMs = 0;
   std::string note;
 };
@@ -391,11 +392,14 @@ void benchSize(const SizeSpec& spec, const Options& o, std::vector<MeshInfo>& in
         sodt::SodtSmoother<MeshF>::Apply(m, p);
       });
       sodt::SodtStats last;
+      std::vector<double> sweepMs;  // per timed call, SodtStats::sweepSeconds
       r.msPerSweep = timeSweeps(m, original, sweeps, !large, calls, [&](int n) {
         p.iterations = n;
         last = sodt::SodtSmoother<MeshF>::Apply(m, p);
+        sweepMs.push_back(1000 * last.sweepSeconds / n);
       });
-      r.sweepOnlyMs = r.msPerSweep - r.setupMs / sweeps;
+      if (!large) sweepMs.erase(sweepMs.begin());  // the warm-up call
+      r.sweepOnlyMs = median(sweepMs);
       r.note = statsNote(last, method.algorithm);
       rows.push_back(r);
       std::fprintf(stderr, "[%s] %s, %d thread(s): %.2f ms/sweep, set-up %.1f ms\n", spec.label.c_str(),
@@ -461,11 +465,12 @@ void printReport(const Options& o, const std::vector<MeshInfo>& infos, const std
               big.c_str(), o.sweeps, o.repeats, big.c_str(), o.largeSweeps, o.largeRepeats);
   std::printf("- S-ODT: ms/sweep = time of one Apply call with iterations = sweeps (set-up included) / sweeps; "
               "set-up = an Apply call with iterations = 0 (no early exit: topology, classification, fits, "
-              "normals, everything but the sweeps); without set-up = ms/sweep - set-up / sweeps\n");
+              "normals, everything but the sweeps); without set-up = the sweeps as Apply times them "
+              "(SodtStats::sweepSeconds; median over the timed calls) / sweeps\n");
   std::printf("- vcg Laplacian: VertexCoordLaplacian(m, sweeps) / sweeps, single-threaded; its set-up "
               "(FaceFace + FaceBorderFromFF) is built outside the timed calls and timed on its own\n");
-  std::printf("- ns/vertex/sweep = ms/sweep / V. Speed-ups and the Alg.2, Alg.3 ratios use ms/sweep unless "
-              "marked; the ratios to the Laplacian compare the sweeps without set-up\n\n");
+  std::printf("- ns/vertex/sweep = ms/sweep / V. The Alg.2, Alg.3 ratios use ms/sweep unless marked; the summary's "
+              "speed-ups and the ratios to the Laplacian compare the sweeps without set-up\n\n");
 
   std::printf("| size | made from | V | F | mesh MB | min angle (deg) | corners < 30 deg | generated in (s) |\n");
   std::printf("|---|---|---:|---:|---:|---:|---:|---:|\n");
@@ -475,32 +480,38 @@ void printReport(const Options& o, const std::vector<MeshInfo>& infos, const std
                 i.megabytes, i.minAngleDeg, 100.0 * i.below30, i.genSeconds);
 
   std::printf("\n| size | V | method | threads | sweeps | ms/sweep | ns/vertex/sweep | set-up (ms) | "
-              "ms/sweep without set-up | speed-up vs 1 thread | notes (last timed call) |\n");
-  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|\n");
+              "ms/sweep without set-up | speed-up vs 1 thread | speed-up, sweeps alone | notes (last timed call) |\n");
+  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   for (const Row& r : rows) {
     const Row* one = findRow(rows, r.size, r.method, 1);
-    std::printf("| %s | %s | %s | %d | %d | %.2f | %.0f | %.1f | %.2f | %s | %s |\n", r.size.c_str(),
+    const bool first = r.threads == 1 || !one;
+    std::printf("| %s | %s | %s | %d | %d | %.2f | %.0f | %.1f | %.2f | %s | %s | %s |\n", r.size.c_str(),
                 withCommas(r.nv).c_str(), r.method.c_str(), r.threads, r.sweeps, r.msPerSweep,
-                1e6 * r.msPerSweep / r.nv, r.setupMs, r.sweepOnlyMs,
-                (r.threads == 1 || !one) ? "-" : ratio(one, &r).c_str(), r.note.c_str());
+                1e6 * r.msPerSweep / r.nv, r.setupMs, r.sweepOnlyMs, first ? "-" : ratio(one, &r).c_str(),
+                first ? "-" : ratio(one, &r, true).c_str(), r.note.c_str());
   }
 
-  // Summary: the speed-up of the largest thread count over 1 thread, and the
-  // cost ratios between methods, all at 1 thread.
+  // Summary: the unguarded sweep's cost per vertex, the speed-up of the
+  // largest thread count over 1 thread (sweeps alone), and the cost ratios
+  // between methods, all at 1 thread.
   const int tMax = *std::max_element(o.threads.begin(), o.threads.end());
   const std::string a1 = kMethods[0].name, a1none = kMethods[2].name, a2 = kMethods[3].name,
                     a3 = kMethods[4].name, lap = "vcg VertexCoordLaplacian";
-  std::printf("\n| size | V | speed-up %d vs 1 thread: Alg.1 quality | Alg.1 fold | Alg.1 none | Alg.2 | Alg.3 | "
+  std::printf("\n| size | V | Alg.1 none, 1 thread: ns/vertex/sweep, sweeps alone | speed-up %d vs 1 thread, "
+              "sweeps alone: Alg.1 quality | Alg.1 fold | Alg.1 none | Alg.2 | Alg.3 | "
               "Alg.3 / Alg.1 | Alg.3 / Alg.1 without set-up | Alg.2 / Alg.1 | Alg.1 / vcg Laplacian | "
               "Alg.1 none / vcg Laplacian |\n",
               tMax);
-  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const MeshInfo& i : infos) {
     const std::string& s = i.spec.label;
-    std::printf("| %s | %s |", s.c_str(), withCommas(i.nv).c_str());
+    const Row* none1 = findRow(rows, s, a1none, 1);
+    char perVertex[32] = "-";
+    if (none1) std::snprintf(perVertex, sizeof perVertex, "%.0f", 1e6 * none1->sweepOnlyMs / none1->nv);
+    std::printf("| %s | %s | %s |", s.c_str(), withCommas(i.nv).c_str(), perVertex);
     for (const SodtMethod& m : kMethods) {
       const Row *one = findRow(rows, s, m.name, 1), *many = findRow(rows, s, m.name, tMax);
-      std::printf(" %s |", tMax == 1 ? "-" : ratio(one, many).c_str());
+      std::printf(" %s |", tMax == 1 ? "-" : ratio(one, many, true).c_str());
     }
     std::printf(" %s | %s | %s | %s | %s |\n", ratio(findRow(rows, s, a3, 1), findRow(rows, s, a1, 1)).c_str(),
                 ratio(findRow(rows, s, a3, 1), findRow(rows, s, a1, 1), true).c_str(),

@@ -291,6 +291,8 @@ sodt::SodtParams unguardedParamsFor(sodt::Algorithm a, int iterations) {
   p.guard = sodt::Guard::None;
   p.laplacianFallback = false;
   p.maxDeviationRel = 0;
+  // The solvers compared as such: S-ODT's 4-lane kernel (lanes.h) has no ODT counterpart.
+  p.simd = false;
   return p;
 }
 

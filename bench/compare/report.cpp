@@ -338,7 +338,9 @@ std::string markdownReport(const std::vector<MeshReport>& reports, const Options
        "columns are from these runs.\n";
   o << "* **Unguarded** (the paper's algorithm: `guard` = none, so no Laplacian fallback and no deviation bound): "
        "S-ODT basic and ODT, " << N
-    << " sweeps, timed as the paper compares the solvers. Per sweep: (median time of `Apply` with " << N
+    << " sweeps, timed as the paper compares the solvers: both scalar, one vertex at a time (`simd` off; the "
+       "library's default 4-lane AVX2 kernel exists for S-ODT only and makes an unguarded S-ODT sweep about 3x "
+       "faster, see bench/README.md). Per sweep: (median time of `Apply` with " << N
     << " sweeps − median time of `Apply` with 0 sweeps, i.e. the set-up: ring topology, vertex order, "
        "colouring) / "
     << N

@@ -154,6 +154,10 @@ struct SodtStats {
   long long deviationQueries = 0;
   long long deviationReused = 0;
   int threads = 1;             ///< worker threads the sweeps used
+  /// Wall-clock seconds of the sweeps themselves (with the flips, quality
+  /// measurements and progress callbacks between them), without the set-up
+  /// before them and the write-back after.
+  double sweepSeconds = 0;
 };
 
 inline const char* toString(Guard g) {

@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <limits>
 #include <string>
 #include <thread>
@@ -250,6 +251,7 @@ struct SodtSmoother {
     LanePlan lanePlan = useLanes ? planLanes(plan, topo) : LanePlan();
     int phase = 0;  // colours swept so far, over all sweeps
 
+    const auto sweepsStart = std::chrono::steady_clock::now();
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
       for (std::size_t c = 0; c + 1 < plan.colourBegin.size(); ++c, ++phase) {
         // A visit whose outcome did not move the vertex need not be repeated
@@ -411,6 +413,7 @@ struct SodtSmoother {
         break;
       }
     }
+    stats.sweepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sweepsStart).count();
     for (const Scratch& sc : scratch) {
       for (int o = 0; o < kOutcomes; ++o) count(stats, static_cast<Outcome>(o), sc.count[o]);
       stats.skipped += sc.skipped;
