@@ -94,3 +94,59 @@ TEST(Topology, DeletedIsolatedAndDegenerateFaceVertices) {
   EXPECT_EQ(t.kind[4], VertexKind::NonManifold);
   EXPECT_EQ(t.kind[5], VertexKind::Interior);
 }
+
+TEST(Topology, SmallAndLargeFanChecksAgree) {
+  // Fans up to detail::kSmallFan edges are checked pairwise, larger ones by
+  // sorting: on random fans (closed rings, open ones, several rings, repeated
+  // starts or ends) both must give the same kind and the same ring.
+  using sodt::detail::FanEdge;
+  std::mt19937 g(77);
+  int kinds[5] = {0, 0, 0, 0, 0};
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int n = 1 + static_cast<int>(g() % sodt::detail::kSmallFan);
+    std::vector<int> labels(2 * n);
+    for (int& l : labels) l = static_cast<int>(g() % 1000);
+    std::vector<FanEdge> fan;
+    switch (g() % 4) {
+      case 0:  // one closed ring
+      case 1:  // a ring, then one edge broken, reversed or duplicated
+        for (int k = 0; k < n; ++k) fan.push_back({labels[k], labels[(k + 1) % n], 100 + k});
+        break;
+      case 2: {  // two rings
+        const int h = std::max(1, n / 2);
+        for (int k = 0; k < h; ++k) fan.push_back({labels[k], labels[(k + 1) % h], 100 + k});
+        for (int k = h; k < n; ++k) fan.push_back({labels[k], labels[k + 1 < n ? k + 1 : h], 100 + k});
+        break;
+      }
+      default:  // random edges
+        for (int k = 0; k < n; ++k) fan.push_back({labels[g() % (2 * n)], labels[g() % (2 * n)], 100 + k});
+        break;
+    }
+    if (fan.size() > 1 && g() % 2) {
+      FanEdge& e = fan[g() % fan.size()];
+      switch (g() % 3) {
+        case 0: e.b = labels[n + g() % n]; break;
+        case 1: std::swap(e.a, e.b); break;
+        default: e = fan[g() % fan.size()]; break;
+      }
+    }
+    std::shuffle(fan.begin(), fan.end(), g);  // the mesh's face order
+    sodt::RingTopology a, b;
+    std::vector<FanEdge> edges;
+    std::vector<int> ends;
+    const VertexKind ka = sodt::detail::closeSmallFan(fan.data(), static_cast<int>(fan.size()), a);
+    const VertexKind kb = sodt::detail::closeFan(fan.data(), static_cast<int>(fan.size()), edges, ends, b);
+    ASSERT_EQ(ka, kb) << "trial " << trial;
+    EXPECT_EQ(a.ringIdx, b.ringIdx) << "trial " << trial;
+    EXPECT_EQ(a.ringFace, b.ringFace) << "trial " << trial;
+    if (ka == VertexKind::Interior) {
+      EXPECT_EQ(a.ringIdx.size(), fan.size());
+    } else {
+      EXPECT_TRUE(a.ringIdx.empty());
+    }
+    ++kinds[static_cast<int>(ka)];
+  }
+  EXPECT_GT(kinds[static_cast<int>(VertexKind::Interior)], 2000);
+  EXPECT_GT(kinds[static_cast<int>(VertexKind::Boundary)], 1000);
+  EXPECT_GT(kinds[static_cast<int>(VertexKind::NonManifold)], 2000);
+}

@@ -8,13 +8,13 @@
 #include "fitting.h"
 #include "flips.h"
 #include "lanes.h"
+#include "normals.h"
 #include "local_solve.h"
 #include "odt.h"
 #include "params.h"
 #include "topology.h"
 
 #include <vcg/complex/algorithms/update/bounding.h>
-#include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/algorithms/update/topology.h>
 #include <vcg/complex/complex.h>
 #include <wrap/callback.h>
@@ -59,8 +59,8 @@ struct SodtSmoother {
   /// checks. With Basic, Guard::None and a double mesh the enclosed volume of
   /// a closed mesh is kept to rounding (Appendix D). Boundary, non-manifold,
   /// isolated and deleted vertices never move; with p.selectedOnly only
-  /// selected vertices move. Updates the bounding box, and face/vertex normals
-  /// when present.
+  /// selected vertices move. Updates the bounding box, and the unit face and
+  /// vertex normals when present (see writeNormals).
   ///
   /// \param m  mesh to smooth; needs per-vertex flags (deleted, selected).
   /// \param p  validated by this call.
@@ -107,7 +107,10 @@ struct SodtSmoother {
         for (int& v : faces.tri[f]) v = slot[v];
     std::vector<int>().swap(slot);
     RingTopology topo = buildRingTopology(faces, deleted);  // rebuilt after edge flips
-    const double meanEdge = meanEdgeLength(m);
+    // The length scale of classification, crease moves and denoising steps;
+    // Algorithm 1 and the references do not use it.
+    const bool usesMeanEdge = p.algorithm == Algorithm::Feature || p.algorithm == Algorithm::Denoise;
+    const double meanEdge = usesMeanEdge ? meanEdgeLength(m) : 0.0;
 
     const int threads = resolveThreads(p.threads);
     stats.threads = threads;
@@ -424,7 +427,10 @@ struct SodtSmoother {
     stats.returnedSweep = stats.iterations;
     if (p.keepBest && bestSweep != stats.iterations) {
       pos = bestPos;
-      if (p.flips) faces = bestFaces;
+      if (p.flips) {
+        faces = bestFaces;
+        topo = buildRingTopology(faces, deleted);  // for the normals
+      }
       stats.returnedSweep = bestSweep;
     }
     // The mesh is written only here, positions and faces together.
@@ -438,8 +444,7 @@ struct SodtSmoother {
     for (int i : active)
       m.vert[order[i]].P() = CoordType(ScalarType(pos[i][0]), ScalarType(pos[i][1]), ScalarType(pos[i][2]));
     vcg::tri::UpdateBounding<MeshType>::Box(m);
-    if (vcg::tri::HasPerFaceNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerFaceNormalized(m);
-    if (vcg::tri::HasPerVertexNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFace(m);
+    writeNormals(m, faces, topo, pos, order, threads);
     if (classes) {
       // Back to the mesh's vertex order.
       *classes = cls;

@@ -53,12 +53,96 @@ FaceList makeFaceList(const MeshType& m, bool selectedOnly = false) {
     const auto& F = m.face[f];
     if (F.IsD()) continue;
     for (int j = 0; j < 3; ++j) fl.tri[f][j] = static_cast<int>(F.cV(j) - &m.vert[0]);
-    const bool sel = F.IsS() || (F.cV(0)->IsS() && F.cV(1)->IsS() && F.cV(2)->IsS());
     fl.live[f] = 1;
-    fl.flippable[f] = !selectedOnly || sel;
+    fl.flippable[f] = !selectedOnly || F.IsS() || (F.cV(0)->IsS() && F.cV(1)->IsS() && F.cV(2)->IsS());
   }
   return fl;
 }
+
+namespace detail {
+
+/// Edge a -> b opposite a vertex in one of its faces.
+struct FanEdge {
+  int a, b, face;
+  bool operator<(const FanEdge& o) const { return a < o.a || (a == o.a && b < o.b); }
+};
+
+/// Fans up to this size are checked by pairwise comparison, larger ones
+/// after sorting; both give the same result.
+constexpr int kSmallFan = 16;
+
+/// Classifies the fan of n edges of one vertex (see buildRingTopology) and,
+/// when it is one closed fan, appends its ring to topo, starting at the
+/// smallest edge start and following the edges. Two edges with the same
+/// start or the same end: NonManifold; a start that ends no edge: Boundary;
+/// a cycle shorter than n: NonManifold (several fans).
+inline VertexKind closeSmallFan(const FanEdge* fan, int n, RingTopology& topo) {
+  for (int k = 1; k < n; ++k)
+    for (int j = 0; j < k; ++j)
+      if (fan[j].a == fan[k].a || fan[j].b == fan[k].b) return VertexKind::NonManifold;
+  int first = 0;
+  for (int k = 0; k < n; ++k) {
+    bool isEnd = false;
+    for (int j = 0; j < n && !isEnd; ++j) isEnd = fan[j].b == fan[k].a;
+    if (!isEnd) return VertexKind::Boundary;
+    if (fan[k].a < fan[first].a) first = k;
+  }
+  // Every start is an end and no two share either: following the edges is a
+  // permutation of the starts; its cycle through the first must hold all n.
+  const std::size_t before = topo.ringIdx.size();
+  int k = first, steps = 0;
+  do {
+    topo.ringIdx.push_back(fan[k].a);
+    topo.ringFace.push_back(fan[k].face);
+    const int next = fan[k].b;
+    k = 0;
+    while (fan[k].a != next) ++k;
+    ++steps;
+  } while (k != first);
+  if (steps != n) {
+    topo.ringIdx.resize(before);
+    topo.ringFace.resize(before);
+    return VertexKind::NonManifold;
+  }
+  return VertexKind::Interior;
+}
+
+/// closeSmallFan for any n, by sorting (edges and ends are scratch space).
+inline VertexKind closeFan(const FanEdge* fan, int n, std::vector<FanEdge>& edges, std::vector<int>& ends,
+                           RingTopology& topo) {
+  edges.assign(fan, fan + n);
+  std::sort(edges.begin(), edges.end());
+  for (int k = 1; k < n; ++k)
+    if (edges[k].a == edges[k - 1].a) return VertexKind::NonManifold;  // two faces leave the same edge
+  ends.clear();
+  for (const FanEdge& ed : edges) ends.push_back(ed.b);
+  std::sort(ends.begin(), ends.end());
+  for (int k = 1; k < n; ++k)
+    if (ends[k] == ends[k - 1]) return VertexKind::NonManifold;
+  for (int k = 0; k < n; ++k)
+    if (!std::binary_search(ends.begin(), ends.end(), edges[k].a)) return VertexKind::Boundary;
+  const auto find = [&edges](int a) {
+    return std::lower_bound(edges.begin(), edges.end(), FanEdge{a, -1, -1});  // present: every end starts an edge
+  };
+  const std::size_t before = topo.ringIdx.size();
+  const int start = edges[0].a;
+  int cur = start, steps = 0;
+  do {
+    const FanEdge& ed = *find(cur);
+    topo.ringIdx.push_back(cur);
+    topo.ringFace.push_back(ed.face);
+    cur = ed.b;
+    ++steps;
+  } while (cur != start);
+  if (steps != n) {
+    topo.ringIdx.resize(before);
+    topo.ringFace.resize(before);
+    return VertexKind::NonManifold;
+  }
+  return VertexKind::Interior;
+}
+
+}  // namespace detail
 
 /// Builds the ring topology of the faces over nv vertices (deleted[i] marks
 /// deleted vertices). Dead faces and faces with a repeated vertex are
@@ -85,10 +169,7 @@ inline RingTopology buildRingTopology(const FaceList& faces, const std::vector<c
     for (int j = 0; j < 3; ++j) ++count[v[j] + 1];
   }
   for (int i = 0; i < nv; ++i) count[i + 1] += count[i];
-  struct FanEdge {
-    int a, b, face;
-    bool operator<(const FanEdge& o) const { return a < o.a || (a == o.a && b < o.b); }
-  };
+  using detail::FanEdge;
   std::vector<FanEdge> fan(count[nv]);
   std::vector<int> fill(count.begin(), count.end() - 1);
   for (std::size_t fi = 0; fi < faces.tri.size(); ++fi) {
@@ -103,6 +184,7 @@ inline RingTopology buildRingTopology(const FaceList& faces, const std::vector<c
   topo.ringIdx.reserve(count[nv]);
   topo.ringFace.reserve(count[nv]);
   std::vector<FanEdge> edges;
+  std::vector<int> ends;
   for (int i = 0; i < nv; ++i) {
     topo.ringBegin[i] = static_cast<int>(topo.ringIdx.size());
     if (topo.kind[i] == VertexKind::Deleted) continue;
@@ -112,57 +194,8 @@ inline RingTopology buildRingTopology(const FaceList& faces, const std::vector<c
     }
     const int b = count[i], e = count[i + 1];
     if (b == e) continue;  // Isolated
-    edges.assign(fan.begin() + b, fan.begin() + e);
-    std::sort(edges.begin(), edges.end());
-    const int n = e - b;
-    bool manifold = true;
-    for (int k = 1; k < n && manifold; ++k)
-      if (edges[k].a == edges[k - 1].a) manifold = false;  // two faces leave the same edge
-    if (!manifold) {
-      topo.kind[i] = VertexKind::NonManifold;
-      continue;
-    }
-    auto find = [&edges](int a) -> const FanEdge* {
-      auto it = std::lower_bound(edges.begin(), edges.end(), FanEdge{a, -1, -1});
-      return (it != edges.end() && it->a == a) ? &*it : nullptr;
-    };
-    // A closed single fan has every edge start also as an edge end; an open fan
-    // starts at a vertex that ends no edge.
-    std::vector<int> ends;
-    ends.reserve(n);
-    for (const auto& ed : edges) ends.push_back(ed.b);
-    std::sort(ends.begin(), ends.end());
-    bool open = false, dupEnd = false;
-    for (int k = 0; k < n; ++k) {
-      if (k > 0 && ends[k] == ends[k - 1]) dupEnd = true;
-      if (!std::binary_search(ends.begin(), ends.end(), edges[k].a)) open = true;
-    }
-    if (dupEnd) {
-      topo.kind[i] = VertexKind::NonManifold;
-      continue;
-    }
-    if (open) {
-      topo.kind[i] = VertexKind::Boundary;
-      continue;
-    }
-    // Closed: walk one cycle; if it is shorter than n there are several fans.
-    const int start = edges[0].a;
-    int cur = start, steps = 0;
-    const int before = static_cast<int>(topo.ringIdx.size());
-    do {
-      const FanEdge* ed = find(cur);
-      topo.ringIdx.push_back(cur);
-      topo.ringFace.push_back(ed->face);
-      cur = ed->b;
-      ++steps;
-    } while (cur != start && find(cur) && steps <= n);
-    if (cur != start || steps != n) {
-      topo.ringIdx.resize(before);
-      topo.ringFace.resize(before);
-      topo.kind[i] = VertexKind::NonManifold;
-      continue;
-    }
-    topo.kind[i] = VertexKind::Interior;
+    topo.kind[i] = e - b <= detail::kSmallFan ? detail::closeSmallFan(fan.data() + b, e - b, topo)
+                                              : detail::closeFan(fan.data() + b, e - b, edges, ends, topo);
   }
   topo.ringBegin[nv] = static_cast<int>(topo.ringIdx.size());
   return topo;
