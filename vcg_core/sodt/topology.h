@@ -71,6 +71,16 @@ struct FanEdge {
 /// after sorting; both give the same result.
 constexpr int kSmallFan = 16;
 
+/// After a walk of `steps` edges appended from position `before`: Interior
+/// when it went round all n edges of the fan, else NonManifold (several
+/// fans) with the walk removed again.
+inline VertexKind keepWholeRing(RingTopology& topo, std::size_t before, int steps, int n) {
+  if (steps == n) return VertexKind::Interior;
+  topo.ringIdx.resize(before);
+  topo.ringFace.resize(before);
+  return VertexKind::NonManifold;
+}
+
 /// Classifies the fan of n edges of one vertex (see buildRingTopology) and,
 /// when it is one closed fan, appends its ring to topo, starting at the
 /// smallest edge start and following the edges. Two edges with the same
@@ -99,12 +109,7 @@ inline VertexKind closeSmallFan(const FanEdge* fan, int n, RingTopology& topo) {
     while (fan[k].a != next) ++k;
     ++steps;
   } while (k != first);
-  if (steps != n) {
-    topo.ringIdx.resize(before);
-    topo.ringFace.resize(before);
-    return VertexKind::NonManifold;
-  }
-  return VertexKind::Interior;
+  return keepWholeRing(topo, before, steps, n);
 }
 
 /// closeSmallFan for any n, by sorting (edges and ends are scratch space).
@@ -134,12 +139,7 @@ inline VertexKind closeFan(const FanEdge* fan, int n, std::vector<FanEdge>& edge
     cur = ed.b;
     ++steps;
   } while (cur != start);
-  if (steps != n) {
-    topo.ringIdx.resize(before);
-    topo.ringFace.resize(before);
-    return VertexKind::NonManifold;
-  }
-  return VertexKind::Interior;
+  return keepWholeRing(topo, before, steps, n);
 }
 
 }  // namespace detail
