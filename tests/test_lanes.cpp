@@ -100,10 +100,13 @@ TEST(Lanes, KernelMatchesTheScalarSolveBitForBit) {
     sodt::lanes::targets4(&pos[0][0], table.data(), n, t);
     for (int l = 0; l < sodt::lanes::kWidth; ++l) {
       const sodt::LocalMove mv = sodt::solveStar(stars[l]);
+      const Vec3 nrm = sodt::starNormal(stars[l]);
       const bool ok = (t.ok >> l & 1) != 0;
       (mv.ok ? solved : failed)++;
-      if (ok != mv.ok ||
-          (ok && !(sameBits(t.x[l], mv.target[0]) && sameBits(t.y[l], mv.target[1]) && sameBits(t.z[l], mv.target[2])))) {
+      const bool sameTarget =
+          sameBits(t.x[l], mv.target[0]) && sameBits(t.y[l], mv.target[1]) && sameBits(t.z[l], mv.target[2]);
+      const bool sameNormal = sameBits(t.nx[l], nrm[0]) && sameBits(t.ny[l], nrm[1]) && sameBits(t.nz[l], nrm[2]);
+      if (ok != mv.ok || (ok && !(sameTarget && sameNormal))) {
         if (++mismatches <= 5)
           ADD_FAILURE() << "trial " << trial << " lane " << l << ": kernel ok " << ok << " (" << t.x[l] << ", " << t.y[l]
                         << ", " << t.z[l] << "), scalar ok " << mv.ok << " (" << mv.target[0] << ", "
@@ -131,16 +134,17 @@ std::vector<long long> counters(const sodt::SodtStats& s) {
           s.fallbackMoves, s.activeVertices, s.flips,    s.skipped,  s.returnedSweep};
 }
 
-/// Runs Algorithm 1 without guards with and without the kernel and compares
-/// positions and faces bit for bit, and every counter.
+/// Runs Algorithm 1 with and without the kernel and compares positions and
+/// faces bit for bit, and every counter.
 template <class M>
-void expectSameRuns(const std::string& name, bool flips, int threads, int iterations) {
-  SCOPED_TRACE(name + (flips ? ", flips" : "") + ", threads " + std::to_string(threads));
+void expectSameRuns(const std::string& name, sodt::Guard guard, bool flips, int threads, int iterations) {
+  SCOPED_TRACE(name + ", guard " + sodt::toString(guard) + (flips ? ", flips" : "") + ", threads " +
+               std::to_string(threads));
   M with, without;
   load(with, name);
   load(without, name);
   sodt::SodtParams p;
-  p.guard = sodt::Guard::None;
+  p.guard = guard;
   p.iterations = iterations;
   p.flips = flips;
   p.threads = threads;
@@ -165,10 +169,15 @@ void expectSameRuns(const std::string& name, bool flips, int threads, int iterat
 
 TEST(Lanes, SweepsAreTheSameWithAndWithoutTheKernel) {
   if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
-  expectSameRuns<sodt::MeshD>("blobs_mc.ply", false, 1, 10);
-  expectSameRuns<sodt::MeshD>("blobs_mc.ply", false, 2, 10);
-  expectSameRuns<sodt::MeshF>("blobs_mc.ply", false, 2, 10);
-  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", false, 1, 10);
-  expectSameRuns<sodt::MeshD>("torus.off", true, 2, 6);
-  expectSameRuns<sodt::MeshD>("cube_noisy.ply", true, 1, 6);
+  using sodt::Guard;
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::None, false, 1, 10);
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::None, false, 2, 10);
+  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::None, false, 2, 10);
+  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::None, false, 1, 10);
+  expectSameRuns<sodt::MeshD>("torus.off", Guard::None, true, 2, 6);
+  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::None, true, 1, 6);
+  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::Quality, false, 2, 10);
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Fold, false, 1, 10);
+  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Quality, true, 2, 6);
+  expectSameRuns<sodt::MeshF>("plane_grid_open.ply", Guard::Quality, false, 1, 6);
 }

@@ -29,6 +29,8 @@ constexpr int kMaxValence = 12;
 /// Output of targets4.
 struct Targets {
   double x[kWidth], y[kWidth], z[kWidth];
+  /// The unit normal of the tangent plane (starNormal), when ok.
+  double nx[kWidth], ny[kWidth], nz[kWidth];
   /// Bit l set: lane l's solve succeeded (solveStar's ok) and its target is
   /// (x[l], y[l], z[l]); clear: the solve failed and the target is unset.
   int ok = 0;
@@ -182,12 +184,15 @@ SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targ
   _mm256_storeu_pd(out.x, target.x);
   _mm256_storeu_pd(out.y, target.y);
   _mm256_storeu_pd(out.z, target.z);
+  _mm256_storeu_pd(out.nx, nrm.x);
+  _mm256_storeu_pd(out.ny, nrm.y);
+  _mm256_storeu_pd(out.nz, nrm.z);
   out.ok = _mm256_movemask_pd(ok);
 }
 }  // namespace detail
 
 /// For four interior vertices with the same valence n (3 <= n <= kMaxValence),
-/// computes what solveStar(star) gives for each. pos holds x, y, z per
+/// computes what solveStar(star) gives for each, and the normal starNormal(star). pos holds x, y, z per
 /// vertex; table is the group's index table (see packGroup).
 SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int n, Targets& out) {
   using detail::targetsN;

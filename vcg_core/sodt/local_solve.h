@@ -282,29 +282,37 @@ inline bool moveFolds(const Star& st, const Vec3& p, const std::vector<Vec3>& cu
   return false;
 }
 
-/// Fold test and, when cos2Limit < 1 (or quality is set), the smallest-angle
-/// test of starKeepsMinAngle in one pass over the star: true when moving the
-/// centre to p neither folds nor collapses a triangle (see moveFolds) nor
-/// gives one a smaller smallest angle than the one with squared cosine
-/// cos2Limit. ringEdge2[k] is |ring[k+1] - ring[k]|^2, which no move changes.
+/// Fold test and, when quality is set, the smallest-angle test of
+/// starKeepsMinAngle in one pass over the star: true when moving the centre
+/// to p neither folds nor collapses a triangle (see moveFolds) nor gives one
+/// a smaller smallest angle than the one with squared cosine cos2Limit.
+/// ringEdge2[k] is |ring[k+1] - ring[k]|^2, which no move changes.
+///
+/// witness, when not null, is the triangle to test first (any index; the
+/// answer does not depend on it) and receives the triangle that failed:
+/// successive candidates of one vertex tend to fail on the same triangle.
 inline bool moveAllowed(const Star& st, const Vec3& p, const std::vector<Vec3>& cur,
-                        const std::vector<double>& ringEdge2, bool quality, double cos2Limit) {
+                        const std::vector<double>& ringEdge2, bool quality, double cos2Limit,
+                        int* witness = nullptr) {
   constexpr double kCollapse = 1e-12;
   const bool haveRef = st.refNormal.size() == st.size();
   const std::size_t n = st.size();
-  const Vec3 first = st.ring[0] - p;
-  Vec3 u = first;
+  if (n == 0) return true;
+  const std::size_t k0 = witness && *witness > 0 && std::size_t(*witness) < n ? std::size_t(*witness) : 0;
+  Vec3 u = st.ring[k0] - p;
   double uu = u.SquaredNorm();
-  for (std::size_t k = 0; k < n; ++k) {
-    const Vec3 w = k + 1 < n ? st.ring[k + 1] - p : first;
+  for (std::size_t t = 0, k = k0; t < n; ++t) {
+    const std::size_t k1 = k + 1 < n ? k + 1 : 0;
+    const Vec3 w = st.ring[k1] - p;
     const double ww = w.SquaredNorm();
     const Vec3 next = u ^ w;  // doubled area vector of (p, a, b)
-    if (!(next * cur[k] > 0)) return false;
-    if (haveRef && next * st.refNormal[k] < 0) return false;
+    bool ok = next * cur[k] > 0 && !(haveRef && next * st.refNormal[k] < 0);
     const double ee = ringEdge2[k];
-    const double l2 = std::max({uu, ww, ee});
-    if (!(next.SquaredNorm() > kCollapse * kCollapse * l2 * l2)) return false;
-    if (quality) {
+    if (ok) {
+      const double l2 = std::max({uu, ww, ee});
+      ok = next.SquaredNorm() > kCollapse * kCollapse * l2 * l2;
+    }
+    if (ok && quality) {
       // The smallest angle is opposite the shortest edge (as triangleMinAngleCos2).
       double dot, l1, l3;
       const double uw = u * w;
@@ -317,10 +325,15 @@ inline bool moveAllowed(const Star& st, const Vec3& p, const std::vector<Vec3>& 
       }
       const double den = l1 * l3;
       const double c2 = !(den > 0) ? 1.0 : (dot <= 0 ? 0.0 : std::min(1.0, dot * dot / den));
-      if (c2 > cos2Limit) return false;
+      ok = !(c2 > cos2Limit);
+    }
+    if (!ok) {
+      if (witness) *witness = static_cast<int>(k);
+      return false;
     }
     u = w;
     uu = ww;
+    k = k1;
   }
   return true;
 }

@@ -68,9 +68,10 @@ struct SodtParams {
   /// the checked points, and skips the distance queries of later moves too
   /// short to use that margin up. The results are the same either way.
   bool reuseDeviationMargins = true;
-  /// Performance only: Algorithm 1 sweeps with Guard::None solve four
-  /// vertices at once in AVX2 lanes when the processor has them (see
-  /// lanes.h). The results are the same bit for bit either way.
+  /// Performance only: Algorithm 1 sweeps solve four vertices at once in
+  /// AVX2 lanes when the processor has them (see lanes.h); the guards then
+  /// check each vertex's move as usual. The results are the same bit for
+  /// bit either way.
   bool simd = true;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.

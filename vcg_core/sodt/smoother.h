@@ -248,8 +248,8 @@ struct SodtSmoother {
     int maxValence = 0;
     for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
     for (Scratch& s : scratch) s.reserve(maxValence);
-    // Algorithm 1 without guards: the 4-lane kernel when the processor has it.
-    const bool useLanes = p.simd && p.algorithm == Algorithm::Basic && p.guard == Guard::None &&
+    // Algorithm 1: the 4-lane kernel when the processor has it.
+    const bool useLanes = p.simd && p.algorithm == Algorithm::Basic &&
                           lanes::available() && nv < std::numeric_limits<int>::max() / 3;
     LanePlan lanePlan = useLanes ? planLanes(plan, topo) : LanePlan();
     int phase = 0;  // colours swept so far, over all sweeps
@@ -275,8 +275,13 @@ struct SodtSmoother {
           lastOutcome[i] = o;
           if (moves(o)) movedAt[i] = phase;
         };
-        const auto visitOne = [&](int i, Scratch& sc) {
-          if (still(i)) return skip(i, sc);
+        // Visits vertex i, with its proposal when one was computed already;
+        // false when the visit was answered from the previous one.
+        const auto visitOne = [&](int i, Scratch& sc, const Proposal* given) {
+          if (still(i)) {
+            skip(i, sc);
+            return false;
+          }
           Star& star = sc.star;
           const int b = topo.ringBegin[i], e = topo.ringBegin[i + 1];
           star.center = pos[i];
@@ -304,7 +309,7 @@ struct SodtSmoother {
             budget.next.slot = sc.nextSlot.data();
           }
           const Vec3 from = pos[i];
-          const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, budget, pos[i]);
+          const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, budget, pos[i], given);
           sc.queried += budget.queried;
           sc.reused += budget.reused;
           record(i, o, sc);
@@ -316,6 +321,7 @@ struct SodtSmoother {
               slotOdo[k] = InputSurface::floatBelow(odo[topo.ringIdx[k]]);
             }
           }
+          return true;
         };
         if (useLanes) {
           // Four vertices of equal valence per kernel call, then the rest
@@ -329,12 +335,23 @@ struct SodtSmoother {
             lanes::targets4(&pos[0][0], lanePlan.table.data() + lanePlan.tableBegin[g], lanePlan.valence[g], t);
             for (int l = 0; l < lanes::kWidth; ++l) {
               const int i = vs[l];
+              const bool ok = (t.ok >> l & 1) != 0;
+              if (p.guard != Guard::None) {
+                // The guarded visit, with propose()'s result from the kernel.
+                Proposal pr;
+                if (ok) {
+                  pr.ok = pr.tangentialFallback = true;
+                  pr.target = Vec3(t.x[l], t.y[l], t.z[l]);
+                  pr.normal = Vec3(t.nx[l], t.ny[l], t.nz[l]);
+                }
+                sc.laneVisits += visitOne(i, sc, &pr);
+                continue;
+              }
               if (still(i)) {
                 skip(i, sc);  // the kernel's answer is the one recorded last time
                 continue;
               }
-              const Outcome o =
-                  (t.ok >> l & 1) ? commitUnguarded(Vec3(t.x[l], t.y[l], t.z[l]), pos[i]) : Outcome::Failed;
+              const Outcome o = ok ? commitUnguarded(Vec3(t.x[l], t.y[l], t.z[l]), pos[i]) : Outcome::Failed;
               record(i, o, sc);
               ++sc.laneVisits;
             }
@@ -347,13 +364,13 @@ struct SodtSmoother {
 #pragma omp for schedule(static) nowait
               for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
 #pragma omp for schedule(static)
-              for (int j = 0; j < nr; ++j) visitOne(rest[j], sc);
+              for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr);
             }
             continue;
           }
 #endif
           for (int g = 0; g < ng; ++g) visitGroup(g0 + g, scratch[0]);
-          for (int j = 0; j < nr; ++j) visitOne(rest[j], scratch[0]);
+          for (int j = 0; j < nr; ++j) visitOne(rest[j], scratch[0], nullptr);
           continue;
         }
         const int* vs = plan.order.data() + plan.colourBegin[c];
@@ -361,11 +378,11 @@ struct SodtSmoother {
 #ifdef _OPENMP
         if (threads > 1 && n >= kMinParallelColour) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-          for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()]);
+          for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr);
           continue;
         }
 #endif
-        for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[0]);
+        for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[0], nullptr);
       }
       ++stats.iterations;
       if (p.flips) {
@@ -616,10 +633,11 @@ struct SodtSmoother {
 
   /// Tries the step from the centre towards target, shortened by halvings,
   /// under the guard. Returns the number of halvings used, -1 when every
-  /// length was vetoed, -2 when the step rounds to no move at all.
+  /// length was vetoed, -2 when the step rounds to no move at all. witness:
+  /// see moveAllowed, shared by the calls of one visit.
   static int tryStep(const Context& c, int i, const Star& star, int* hints, const std::vector<Vec3>& foldRef,
                      const std::vector<double>& ringEdge2, const Vec3& target, double minAngleCos2Before,
-                     int& pointHint, Budget& budget, Vec3& x) {
+                     int& pointHint, Budget& budget, int& witness, Vec3& x) {
     const SodtParams& p = c.p;
     const Vec3 step = target - star.center;
     double f = 1.0;
@@ -627,7 +645,8 @@ struct SodtSmoother {
       const Vec3 y = representable(star.center + step * f);
       if (!isFinite(y)) continue;
       if (y == x) return j == 0 ? -2 : -1;  // shorter steps round to nothing as well
-      if (!moveAllowed(star, y, foldRef, ringEdge2, p.guard == Guard::Quality, minAngleCos2Before)) continue;
+      if (!moveAllowed(star, y, foldRef, ringEdge2, p.guard == Guard::Quality, minAngleCos2Before, &witness))
+        continue;
       if (c.input && !c.input->keeps(i, star, y, hints, pointHint, (y - star.center).Norm() + budget.eps, budget.drift,
                                      budget.last, budget.next, budget.queried, budget.reused))
         continue;
@@ -795,24 +814,27 @@ struct SodtSmoother {
     return lp;
   }
 
-  /// Proposes, guards and commits the move of vertex i into x. hints: per
-  /// star triangle, an input face for the deviation guard to try first (see
+  /// Proposes (unless given: propose()'s result, computed elsewhere),
+  /// guards and commits the move of vertex i into x. hints: per star
+  /// triangle, an input face for the deviation guard to try first (see
   /// InputSurface::keeps), or null.
   static Outcome visitVertex(const Context& c, int i, const Star& star, int* hints, int& pointHint, Scratch& sc,
-                             Budget& budget, Vec3& x) {
-    const Proposal pr = propose(c, i, star);
+                             Budget& budget, Vec3& x, const Proposal* given = nullptr) {
+    const Proposal pr = given ? *given : propose(c, i, star);
     if (!pr.ok) return Outcome::Failed;
     const SodtParams& p = c.p;
     if (p.guard == Guard::None) return commitUnguarded(pr.target, x);
     const double before = p.guard == Guard::Quality ? starMinAngleCos2(star, star.center) : 1.0;
     foldReferences(star, pr.normal, sc.foldRef);
     ringEdgeLengths2(star, sc.ringEdge2);
-    const int r = tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, budget, x);
+    int witness = 0;
+    const int r =
+        tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, budget, witness, x);
     if (r == 0) return Outcome::Moved;
     if (r > 0) return Outcome::Backtracked;
     if (p.laplacianFallback) {
       const Vec3 fallback = pr.tangentialFallback ? tangentialLaplacianTarget(star, pr.normal) : pr.fallback;
-      if (tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, fallback, before, pointHint, budget, x) >= 0)
+      if (tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, fallback, before, pointHint, budget, witness, x) >= 0)
         return Outcome::Fallback;
     }
     return r == -2 ? Outcome::Unchanged : Outcome::Rejected;
