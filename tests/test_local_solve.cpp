@@ -203,6 +203,49 @@ TEST(Guards, QualityMeasureIsTheStarsSmallestAngle) {
   EXPECT_LT(sodt::starMinAngle(st, Vec3(0.5, 0, 0)) * sodt::kRadToDeg, 60.0);
 }
 
+TEST(Guards, MoveAllowedAgreesWithItsDefinitionWhateverTheWitness) {
+  // moveAllowed = no triangle folds (moveFolds) and, with quality, none gets
+  // a smaller smallest angle (starKeepsMinAngle); the triangle tested first
+  // (witness) changes only the time, and a false answer names a culprit.
+  std::mt19937 g(31);
+  int allowed = 0, refused = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    Star st = randomStar(g, 0.3);
+    const Vec3 n = sodt::starNormal(st);
+    std::vector<Vec3> cur;
+    std::vector<double> edge2;
+    sodt::foldReferences(st, n, cur);
+    sodt::ringEdgeLengths2(st, edge2);
+    const bool quality = trial % 2 == 0;
+    const double limit = sodt::starMinAngleCos2(st, st.center);
+    const Vec3 p = st.center + Vec3(sodt_test::uniform(g, -0.8, 0.8), sodt_test::uniform(g, -0.8, 0.8), 0);
+    const bool expected = !sodt::moveFolds(st, p, cur) && (!quality || sodt::starKeepsMinAngle(st, p, limit));
+    const int n0 = static_cast<int>(st.size());
+    for (int w = -1; w <= n0; ++w) {
+      int witness = w;
+      ASSERT_EQ(sodt::moveAllowed(st, p, cur, edge2, quality, limit, &witness), expected) << trial << " " << w;
+      if (!expected) {
+        ASSERT_GE(witness, 0);
+        ASSERT_LT(witness, n0);
+        // The culprit alone refuses the move: a one-triangle star of it does.
+        Star one;
+        one.center = st.center;
+        one.ring = {st.at(witness), st.at(witness + 1)};
+        const Vec3 a = sodt::doubleAreaVector(p, one.ring[0], one.ring[1]);
+        const bool folds = !(a * cur[witness] > 0) ||
+                           !(a.SquaredNorm() > 1e-24 * std::pow(std::max({(one.ring[0] - p).SquaredNorm(),
+                                                                           (one.ring[1] - p).SquaredNorm(),
+                                                                           edge2[witness]}), 2));
+        const bool worse = quality && sodt::triangleMinAngleCos2(p, one.ring[0], one.ring[1]) > limit;
+        ASSERT_TRUE(folds || worse) << trial << " " << w;
+      }
+    }
+    (expected ? allowed : refused)++;
+  }
+  EXPECT_GT(allowed, 500);
+  EXPECT_GT(refused, 500);
+}
+
 namespace {
 
 /// Minimises the energy of Eq. 5 (normal n) along the line c + d e by
