@@ -770,7 +770,7 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const Measures& 
     std::printf("  inverted       n/a (%s)\n",
                 st.flips > 0 ? "connectivity changed by flips" : "the faces differ from the input's");
   std::printf("  vertex visits  moved %lld, backtracked %lld, Laplacian fallback %lld, rejected %lld, failed %lld, "
-              "unchanged %lld; %lld answered without solving (nothing in their star had moved)\n",
+              "unchanged %lld; %lld repeated their previous visit (nothing in their star had moved)\n",
               st.moved, st.backtracked, st.fallbackMoves, st.rejected, st.failedSolves, st.unchanged, st.skipped);
   std::printf("  fixed          %d boundary, %d non-manifold; %d vertices active\n", st.fixedBoundary,
               st.fixedNonManifold, st.activeVertices);

@@ -385,8 +385,8 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
     Log(strFormat("S-ODT: vertex classes: %s%s", classCounts(classes).c_str(),
                   outputClass ? "; written to vertex quality and colour" : ""));
     Log(strFormat("S-ODT: %d sweeps over %d active vertices with %d thread%s: %lld moved, %lld backtracked, "
-                  "%lld Laplacian fallback, %lld rejected, %lld failed solves, %lld unchanged (%lld answered "
-                  "without solving: nothing in their star had moved); fixed %d boundary and %d non-manifold "
+                  "%lld Laplacian fallback, %lld rejected, %lld failed solves, %lld unchanged (%lld repeated "
+                  "their previous visit: nothing in their star had moved); fixed %d boundary and %d non-manifold "
                   "vertices",
                   s.iterations, s.activeVertices, s.threads, s.threads == 1 ? "" : "s", s.moved, s.backtracked,
                   s.fallbackMoves, s.rejected, s.failedSolves, s.unchanged, s.skipped, s.fixedBoundary,
