@@ -11,7 +11,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <map>
+#include <random>
 #include <set>
 
 namespace {
@@ -88,6 +91,40 @@ TEST(Flips, KeepVertexCountManifoldnessAndOrientation) {
   for (int i = 0; i < m.vn; ++i) EXPECT_EQ(t.kind[i], sodt::VertexKind::Interior) << i;
   EXPECT_GT(sodt::computeAngleStats(m).minDeg, before.minDeg);
   EXPECT_LT(std::abs(sodt::enclosedVolume(m).volume - vol0) / vol0, 1e-2);
+}
+
+TEST(Flips, PerFaceDataStaysWithItsTriangle) {
+  // The sweeps keep faces in an order of their own; after flips each
+  // triangle must be written back to its own mesh face, so that per-face
+  // data stays with it: a face that no flip touched keeps its slot (a
+  // triangle that a flip and a flip back recreate may come back in the
+  // slot of its neighbour). And each face's normal must be its own.
+  sodt::MeshD m;
+  sodt_test::makeSphere(m, 3);
+  sodt_test::jitterOnSphere(m, 0.45, 78);
+  std::mt19937 g(4);
+  std::shuffle(m.face.begin(), m.face.end(), g);  // faces stored in no particular order
+  const auto triple = [&m](const sodt::MeshD::FaceType& f) {
+    std::array<int, 3> t;
+    for (int j = 0; j < 3; ++j) t[j] = int(f.cV(j) - &m.vert[0]);
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  std::vector<std::array<int, 3>> before;
+  for (const auto& f : m.face) before.push_back(triple(f));
+  const std::set<std::array<int, 3>> input(before.begin(), before.end());
+  const sodt::SodtStats s = smooth(m, sodt::Algorithm::Basic, true);
+  EXPECT_GT(s.flips, 0);
+  int unchanged = 0, sameSlot = 0;
+  for (std::size_t f = 0; f < m.face.size(); ++f) {
+    const std::array<int, 3> t = triple(m.face[f]);
+    unchanged += input.count(t) > 0;
+    sameSlot += t == before[f];
+    const vcg::Point3d a = vcg::TriangleNormal(m.face[f]).Normalize();
+    EXPECT_LT((m.face[f].cN() - a).Norm(), 1e-12) << f;
+  }
+  EXPECT_GT(unchanged, m.fn / 2);
+  EXPECT_GE(sameSlot, unchanged - 2 * s.flips);  // each flip touches two faces
 }
 
 TEST(Flips, CubeEdgesAreNeverFlipped) {

@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
+
 using sodt::VertexKind;
 using Mesh = sodt::MeshD;
 
@@ -149,4 +152,54 @@ TEST(Topology, SmallAndLargeFanChecksAgree) {
   EXPECT_GT(kinds[static_cast<int>(VertexKind::Interior)], 2000);
   EXPECT_GT(kinds[static_cast<int>(VertexKind::Boundary)], 1000);
   EXPECT_GT(kinds[static_cast<int>(VertexKind::NonManifold)], 2000);
+}
+
+TEST(Topology, FacesSortedByVertexKeepTheRings) {
+  // sortFacesByVertex: a stable reordering by smallest vertex, dead faces
+  // last, that changes nothing but the face numbers the rings refer to.
+  Mesh m;
+  sodt_test::makeSphere(m, 2);
+  sodt_test::addFace(m, 3, 3, 4);  // repeated vertex
+  sodt_test::addFace(m, 7, 8, 9);  // non-manifold edges
+  vcg::tri::Allocator<Mesh>::DeleteFace(m, m.face[11]);
+  sodt::FaceList input = sodt::makeFaceList(m);
+  std::mt19937 g(5);
+  std::vector<int> shuffled(input.tri.size());
+  for (std::size_t f = 0; f < shuffled.size(); ++f) shuffled[f] = static_cast<int>(f);
+  std::shuffle(shuffled.begin(), shuffled.end(), g);
+  sodt::FaceList a;  // the input faces in a scattered order
+  for (int f : shuffled) {
+    a.tri.push_back(input.tri[f]);
+    a.live.push_back(input.live[f]);
+    a.flippable.push_back(f % 3 != 0);
+  }
+  sodt::FaceList b = a;
+  const std::vector<int> previous = sodt::sortFacesByVertex(b, m.vn);
+  ASSERT_EQ(previous.size(), a.tri.size());
+  std::vector<int> seen(a.tri.size(), 0);
+  const auto key = [&](std::size_t f) {
+    return b.live[f] ? std::min({b.tri[f][0], b.tri[f][1], b.tri[f][2]}) : m.vn;
+  };
+  for (std::size_t f = 0; f < b.tri.size(); ++f) {
+    ASSERT_GE(previous[f], 0);
+    ASSERT_EQ(seen[previous[f]]++, 0);
+    EXPECT_EQ(b.tri[f], a.tri[previous[f]]);
+    EXPECT_EQ(b.live[f], a.live[previous[f]]);
+    EXPECT_EQ(b.flippable[f], a.flippable[previous[f]]);
+    if (f > 0) {
+      ASSERT_LE(key(f - 1), key(f)) << f;
+      if (key(f - 1) == key(f)) EXPECT_LT(previous[f - 1], previous[f]) << f;
+    }
+  }
+  EXPECT_FALSE(b.live.back());
+  std::vector<char> deleted(m.vert.size(), 0);
+  const sodt::RingTopology ta = sodt::buildRingTopology(a, deleted), tb = sodt::buildRingTopology(b, deleted);
+  EXPECT_EQ(ta.kind, tb.kind);
+  EXPECT_EQ(ta.ringBegin, tb.ringBegin);
+  EXPECT_EQ(ta.ringIdx, tb.ringIdx);
+  ASSERT_EQ(ta.ringFace.size(), tb.ringFace.size());
+  for (std::size_t k = 0; k < tb.ringFace.size(); ++k) EXPECT_EQ(previous[tb.ringFace[k]], ta.ringFace[k]) << k;
+  int nonManifold = 0;
+  for (VertexKind k : tb.kind) nonManifold += k == VertexKind::NonManifold;
+  EXPECT_GE(nonManifold, 3);
 }

@@ -16,12 +16,12 @@ namespace sodt {
 /// normalised; per vertex, the sum of the area vectors of its faces (area
 /// weighting, as vcglib's PerVertexNormalizedPerFace), normalised. Computed
 /// in double from the working positions pos (working index i is
-/// m.vert[order[i]]; faces.tri[f] is m.face[f] in working indices) and
-/// rounded once. A zero sum gives a zero normal. Vertices that no live face
-/// references, and deleted ones, keep their normal.
+/// m.vert[order[i]]; faces.tri[f] is m.face[faceOrder[f]] in working
+/// indices) and rounded once. A zero sum gives a zero normal. Vertices that
+/// no live face references, and deleted ones, keep their normal.
 template <class MeshType>
 void writeNormals(MeshType& m, const FaceList& faces, const RingTopology& topo, const std::vector<Vec3>& pos,
-                  const std::vector<int>& order, int threads) {
+                  const std::vector<int>& order, const std::vector<int>& faceOrder, int threads) {
   using FaceNormal = typename MeshType::FaceType::NormalType;
   using VertexNormal = typename MeshType::VertexType::NormalType;
   using FaceScalar = typename FaceNormal::ScalarType;
@@ -43,7 +43,7 @@ void writeNormals(MeshType& m, const FaceList& faces, const RingTopology& topo, 
     for (long f = 0; f < nf; ++f) {
       if (!faces.live[f]) continue;
       const Vec3 n = unit(area(f));
-      m.face[f].N() = FaceNormal(FaceScalar(n[0]), FaceScalar(n[1]), FaceScalar(n[2]));
+      m.face[faceOrder[f]].N() = FaceNormal(FaceScalar(n[0]), FaceScalar(n[1]), FaceScalar(n[2]));
     }
   }
   if (!vcg::tri::HasPerVertexNormal(m)) return;

@@ -106,6 +106,7 @@ struct SodtSmoother {
       if (faces.live[f])
         for (int& v : faces.tri[f]) v = slot[v];
     std::vector<int>().swap(slot);
+    const std::vector<int> faceOrder = sortFacesByVertex(faces, nv);  // working face -> index in m.face
     RingTopology topo = buildRingTopology(faces, deleted);  // rebuilt after edge flips
     // The length scale of classification, crease moves and denoising steps;
     // Algorithm 1 and the references do not use it.
@@ -451,7 +452,7 @@ struct SodtSmoother {
       stats.returnedSweep = bestSweep;
     }
     // The mesh is written only here, positions and faces together.
-    if (stats.flips > 0) writeFaces(m, faces, order);
+    if (stats.flips > 0) writeFaces(m, faces, order, faceOrder);
     if (stats.flips > 0) {
       // Flips invalidate any adjacency the caller had computed.
       if (vcg::tri::HasFFAdjacency(m)) vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
@@ -461,7 +462,7 @@ struct SodtSmoother {
     for (int i : active)
       m.vert[order[i]].P() = CoordType(ScalarType(pos[i][0]), ScalarType(pos[i][1]), ScalarType(pos[i][2]));
     vcg::tri::UpdateBounding<MeshType>::Box(m);
-    writeNormals(m, faces, topo, pos, order, threads);
+    writeNormals(m, faces, topo, pos, order, faceOrder, threads);
     if (classes) {
       // Back to the mesh's vertex order.
       *classes = cls;
@@ -532,11 +533,13 @@ struct SodtSmoother {
     return q;
   }
 
-  /// Writes the vertex references of the face list (working indices) back into m.
-  static void writeFaces(MeshType& m, const FaceList& fl, const std::vector<int>& order) {
-    for (std::size_t f = 0; f < m.face.size(); ++f)
+  /// Writes the vertex references of the face list (working indices, working
+  /// face f is m.face[faceOrder[f]]) back into m.
+  static void writeFaces(MeshType& m, const FaceList& fl, const std::vector<int>& order,
+                         const std::vector<int>& faceOrder) {
+    for (std::size_t f = 0; f < fl.tri.size(); ++f)
       if (fl.live[f])
-        for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[order[fl.tri[f][j]]];
+        for (int j = 0; j < 3; ++j) m.face[faceOrder[f]].V(j) = &m.vert[order[fl.tri[f][j]]];
   }
 
   static Vec3 toVec3(const CoordType& c) { return Vec3(c[0], c[1], c[2]); }

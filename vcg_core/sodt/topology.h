@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace sodt {
@@ -24,7 +25,7 @@ enum class VertexKind : std::uint8_t {
 /// One-rings in compressed form. Vertex i (its index in m.vert) has kind[i];
 /// when Interior, its ring is ringIdx[ringBegin[i] .. ringBegin[i+1]) and the
 /// faces of its star are (i, ring[k], ring[k+1]) in the mesh's orientation;
-/// ringFace[ringBegin[i] + k] is the index in m.face of that k-th face.
+/// ringFace[ringBegin[i] + k] is the index in the face list of that k-th face.
 struct RingTopology {
   std::vector<VertexKind> kind;
   std::vector<int> ringBegin;
@@ -280,6 +281,37 @@ inline std::vector<int> breadthFirstOrder(const FaceList& faces, const std::vect
   for (int i = 0; i < nv; ++i)
     if (deleted[i]) order.push_back(i);
   return order;
+}
+
+/// Reorders the faces by their smallest vertex index (ties keep their
+/// order), dead faces last, and returns the previous index of each face.
+/// With vertices in breadth-first order the faces of a star then lie close
+/// together in memory too, so per-face data read per visit (reference
+/// normals, the deviation guard's input faces) is near in the cache. The
+/// ring topology and everything built on it do not depend on face order.
+inline std::vector<int> sortFacesByVertex(FaceList& faces, int nv) {
+  const std::size_t nf = faces.tri.size();
+  std::vector<int> begin(static_cast<std::size_t>(nv) + 2, 0);  // key nv: dead faces
+  const auto key = [&](std::size_t f) {
+    if (!faces.live[f]) return nv;
+    const std::array<int, 3>& t = faces.tri[f];
+    return std::min(t[0], std::min(t[1], t[2]));
+  };
+  for (std::size_t f = 0; f < nf; ++f) ++begin[key(f) + 1];
+  for (int k = 0; k <= nv; ++k) begin[k + 1] += begin[k];
+  std::vector<int> previous(nf);
+  for (std::size_t f = 0; f < nf; ++f) previous[begin[key(f)]++] = static_cast<int>(f);
+  FaceList sorted;
+  sorted.tri.resize(nf);
+  sorted.live.resize(nf);
+  sorted.flippable.resize(nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    sorted.tri[f] = faces.tri[previous[f]];
+    sorted.live[f] = faces.live[previous[f]];
+    sorted.flippable[f] = faces.flippable[previous[f]];
+  }
+  faces = std::move(sorted);
+  return previous;
 }
 
 /// Builds the ring topology of m (see the FaceList overload). Needs no vcg adjacency.
