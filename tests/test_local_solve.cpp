@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 using sodt::Star;
@@ -244,6 +245,62 @@ TEST(Guards, MoveAllowedAgreesWithItsDefinitionWhateverTheWitness) {
   }
   EXPECT_GT(allowed, 500);
   EXPECT_GT(refused, 500);
+}
+
+TEST(Guards, PrepareGuardIsTheSeparateFunctionsBitForBit) {
+  // prepareGuard fuses foldReferences, ringEdgeLengths2 and
+  // starMinAngleCos2: every value must be the same bits, on general stars,
+  // on stars with tied edge lengths (every corner choice and its ties),
+  // collapsed and nearly collapsed triangles, a centre on the ring and
+  // collinear rings.
+  std::mt19937 g(57);
+  const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  int collapsed = 0, corners[3] = {0, 0, 0};
+  for (int trial = 0; trial < 20000; ++trial) {
+    Star st = randomStar(g, trial % 3 == 0 ? 0.0 : 0.3);
+    const int n = static_cast<int>(st.size());
+    switch (trial % 6) {
+      case 1:  // integer grid: many exactly tied lengths
+        for (Vec3& q : st.ring) q = Vec3(std::round(q[0] * 2), std::round(q[1] * 2), std::round(q[2] * 2));
+        st.center = Vec3(0, 0, 0);
+        break;
+      case 2:  // the centre on a ring vertex or ring vertices repeated
+        if (trial % 4 == 0) st.center = st.ring[trial % n];
+        else st.ring[(trial + 1) % n] = st.ring[trial % n];
+        break;
+      case 3:  // collinear
+        for (int k = 0; k < n; ++k) st.ring[k] = Vec3(k - n / 2.0, 0, 0);
+        break;
+      case 4: {  // the centre just off a ring edge, at the collapse threshold of its triangle
+        const Vec3 &a = st.ring[trial % n], &b = st.at(trial % n + 1);
+        Vec3 d = (b - a) ^ Vec3(0, 0, 1);
+        d /= d.Norm();
+        st.center = (a + b) * 0.5 + d * ((trial % 4 == 0 ? 0.5e-12 : -0.5e-12) * (b - a).Norm());
+        break;
+      }
+      default: break;
+    }
+    const Vec3 nrm = sodt::starNormal(st);
+    std::vector<Vec3> cur, cur2;
+    std::vector<double> edge2, edge22;
+    sodt::foldReferences(st, nrm, cur);
+    sodt::ringEdgeLengths2(st, edge2);
+    const bool quality = trial % 5 != 4;
+    const double worst = quality ? sodt::starMinAngleCos2(st, st.center) : 1.0;
+    ASSERT_TRUE(same(sodt::prepareGuard(st, nrm, quality, cur2, edge22), worst)) << trial;
+    ASSERT_EQ(cur2.size(), cur.size());
+    ASSERT_EQ(edge22.size(), edge2.size());
+    for (int k = 0; k < n; ++k) {
+      ASSERT_TRUE(same(edge22[k], edge2[k])) << trial << " " << k;
+      for (int j = 0; j < 3; ++j) ASSERT_TRUE(same(cur2[k][j], cur[k][j])) << trial << " " << k;
+      collapsed += cur[k] == nrm;
+      // Which corner holds the smallest angle (as triangleMinAngleCos2 picks it).
+      const double uu = (st.at(k) - st.center).SquaredNorm(), ww = (st.at(k + 1) - st.center).SquaredNorm();
+      ++corners[edge2[k] <= uu && edge2[k] <= ww ? 0 : ww <= uu ? 1 : 2];
+    }
+  }
+  EXPECT_GT(collapsed, 1000);
+  for (int c : corners) EXPECT_GT(c, 10000);
 }
 
 namespace {

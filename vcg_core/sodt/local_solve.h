@@ -344,6 +344,45 @@ inline void ringEdgeLengths2(const Star& st, std::vector<double>& out) {
   for (std::size_t k = 0; k < st.size(); ++k) out[k] = (st.at(k + 1) - st.at(k)).SquaredNorm();
 }
 
+/// What moveAllowed needs for every step length of one visit, in one pass
+/// over the star: foldReferences(st, n, cur), ringEdgeLengths2(st,
+/// ringEdge2) and, when quality is set, returns starMinAngleCos2(st,
+/// st.center) (else 1). Bit for bit the same as those three: each spoke
+/// and ring edge is computed once and shared by the triangles beside it
+/// (p - a is -(a - p) exactly, so the dot products only change sign).
+inline double prepareGuard(const Star& st, const Vec3& n, bool quality, std::vector<Vec3>& cur,
+                           std::vector<double>& ringEdge2) {
+  constexpr double kCollapse = 1e-12;  // as foldReferences
+  const std::size_t size = st.size();
+  cur.resize(size);
+  ringEdge2.resize(size);
+  if (size == 0) return quality ? 0.0 : 1.0;
+  double worst = 0;
+  Vec3 u = st.ring[0] - st.center;
+  double uu = u.SquaredNorm();
+  for (std::size_t k = 0; k < size; ++k) {
+    const Vec3& a = st.ring[k];
+    const Vec3& b = st.ring[k + 1 < size ? k + 1 : 0];
+    const Vec3 w = b - st.center, e = b - a;
+    const double ww = w.SquaredNorm(), ee = e.SquaredNorm();
+    ringEdge2[k] = ee;
+    const Vec3 now = u ^ w;
+    cur[k] = now.Norm() > kCollapse * std::max({uu, ww, ee}) ? now : n;
+    if (quality) {
+      // triangleMinAngleCos2(centre, a, b): the corner opposite the shortest edge.
+      const double eu = e * u, ew = e * w, uw = u * w;
+      const bool atCentre = ee <= uu && ee <= ww, atA = !atCentre && ww <= uu;
+      const double dot = atCentre ? uw : atA ? -eu : ew;
+      const double den = atCentre ? uu * ww : atA ? ee * uu : ww * ee;
+      const double c2 = !(den > 0) ? 1.0 : dot <= 0 ? 0.0 : std::min(1.0, dot * dot / den);
+      worst = std::max(worst, c2);
+    }
+    u = w;
+    uu = ww;
+  }
+  return quality ? worst : 1.0;
+}
+
 /// True when moving the centre from st.center to p flips or collapses a
 /// triangle of the star. A triangle collapses when its area falls to rounding
 /// level relative to its longest edge; it flips when its area vector turns

@@ -827,9 +827,7 @@ struct SodtSmoother {
     if (!pr.ok) return Outcome::Failed;
     const SodtParams& p = c.p;
     if (p.guard == Guard::None) return commitUnguarded(pr.target, x);
-    const double before = p.guard == Guard::Quality ? starMinAngleCos2(star, star.center) : 1.0;
-    foldReferences(star, pr.normal, sc.foldRef);
-    ringEdgeLengths2(star, sc.ringEdge2);
+    const double before = prepareGuard(star, pr.normal, p.guard == Guard::Quality, sc.foldRef, sc.ringEdge2);
     int witness = 0;
     const int r =
         tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, budget, witness, x);
