@@ -211,6 +211,9 @@ SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int 
   }
 }
 #undef SODT_LANES_TARGET
+#else
+/// No kernel in this build: available() is false, so this is never called.
+inline void targets4(const double*, const int*, int, Targets& out) { out.ok = 0; }
 #endif
 
 }  // namespace lanes
