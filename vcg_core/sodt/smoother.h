@@ -12,6 +12,7 @@
 #include "local_solve.h"
 #include "odt.h"
 #include "params.h"
+#include "sweep_quality.h"
 #include "topology.h"
 
 #include <vcg/complex/algorithms/update/bounding.h>
@@ -214,7 +215,8 @@ struct SodtSmoother {
     // Best state seen, for keepBest (the input is state 0), and the last
     // quality, for toleranceDeg.
     const bool measuring = p.keepBest || p.toleranceDeg > 0;
-    Quality last = measuring ? measureQuality(faces, pos, faceNormal) : Quality{};
+    SweepQualityMeter meter;
+    Quality last = measuring ? meter(faces, pos, faceNormal, threads) : Quality{};
     Quality best = last;
     std::vector<Vec3> bestPos = p.keepBest ? pos : std::vector<Vec3>();
     FaceList bestFaces = p.keepBest && p.flips ? faces : FaceList();
@@ -411,7 +413,7 @@ struct SodtSmoother {
       }
       bool stop = false;
       if (measuring) {
-        const Quality q = measureQuality(faces, pos, faceNormal);
+        const Quality q = meter(faces, pos, faceNormal, threads);
         if (p.keepBest && q.better(best)) {
           best = q;
           bestSweep = it + 1;
@@ -501,37 +503,7 @@ struct SodtSmoother {
   /// the pair's smaller angle grows, so passes end anyway).
   static constexpr int kMaxFlipPasses = 10;
 
-  /// Faces turned against their input orientation, smallest angle and 1st
-  /// percentile of the per-triangle smallest angle (degrees). A state is
-  /// better with fewer inverted faces, then a larger minimum, then a larger
-  /// percentile, so keepBest never prefers a folded mesh.
-  struct Quality {
-    long long inverted = 0;
-    double minDeg = 0, p1Deg = 0;
-    bool better(const Quality& o) const {
-      if (inverted != o.inverted) return inverted < o.inverted;
-      return minDeg > o.minDeg || (minDeg == o.minDeg && p1Deg > o.p1Deg);
-    }
-  };
-
-  static Quality measureQuality(const FaceList& faces, const std::vector<Vec3>& pos,
-                                const std::vector<Vec3>& refNormal) {
-    std::vector<double> tmin;
-    tmin.reserve(faces.tri.size());
-    Quality q;
-    for (std::size_t f = 0; f < faces.tri.size(); ++f) {
-      if (!faces.live[f]) continue;
-      const auto& t = faces.tri[f];
-      tmin.push_back(triangleMinAngle(pos[t[0]], pos[t[1]], pos[t[2]]) * kRadToDeg);
-      if (!refNormal.empty() && doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]) * refNormal[f] < 0) ++q.inverted;
-    }
-    if (tmin.empty()) return q;
-    const std::size_t idx = static_cast<std::size_t>(std::floor(0.01 * double(tmin.size() - 1)));
-    std::nth_element(tmin.begin(), tmin.begin() + idx, tmin.end());
-    q.p1Deg = tmin[idx];
-    q.minDeg = *std::min_element(tmin.begin(), tmin.begin() + idx + 1);
-    return q;
-  }
+  using Quality = SweepQuality;
 
   /// Writes the vertex references of the face list (working indices, working
   /// face f is m.face[faceOrder[f]]) back into m.

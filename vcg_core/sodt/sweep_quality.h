@@ -1,0 +1,166 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The quality of one state of the sweeps, for keepBest and toleranceDeg:
+// measured after every sweep, so it has to cost little next to one.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "geometry.h"
+#include "topology.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace sodt {
+
+/// Inverted faces, smallest angle and 1st percentile of the per-triangle
+/// smallest angle (degrees) of one state. A state is better with fewer
+/// inverted faces, then a larger minimum, then a larger percentile, so
+/// keepBest never prefers a folded mesh.
+struct SweepQuality {
+  long long inverted = 0;
+  double minDeg = 0, p1Deg = 0;
+  bool better(const SweepQuality& o) const {
+    if (inverted != o.inverted) return inverted < o.inverted;
+    return minDeg > o.minDeg || (minDeg == o.minDeg && p1Deg > o.p1Deg);
+  }
+};
+
+namespace detail {
+
+/// The squared sine of the smallest angle of triangle (a, b, c), which
+/// grows with that angle (at most 60 degrees), and its doubled area vector
+/// doubleAreaVector(a, b, c). The smallest angle lies between the two
+/// longest edges, so its sine is |area vector| / (their lengths'
+/// product): no branch (the faces of a mesh pick their corner at random)
+/// and the cross product is the one the inversion test needs anyway. A
+/// triangle with two zero-length edges gets 0.
+inline double minAngleSin2(const Vec3& a, const Vec3& b, const Vec3& c, Vec3& area) {
+  const Vec3 ab = b - a, ac = c - a, bc = c - b;
+  area = ab ^ ac;
+  const double l1 = ab.SquaredNorm(), l2 = ac.SquaredNorm(), l3 = bc.SquaredNorm();
+  const double longest = std::max(std::max(l1, l2), l3);
+  const double middle = std::max(std::min(l1, l2), std::min(std::max(l1, l2), l3));
+  const double den = longest * middle;
+  const double s2 = std::min(1.0, area.SquaredNorm() / den);
+  return den > 0 ? s2 : 0.0;
+}
+
+}  // namespace detail
+
+/// Measures SweepQuality, keeping its buffers from one call to the next.
+class SweepQualityMeter {
+ public:
+  /// The quality of the live faces of faces at positions pos. A face is
+  /// inverted when its area vector points against refNormal[f] (none are
+  /// when refNormal is empty). p1Deg is the value at index
+  /// floor(0.01 (n - 1)) of the n per-face smallest angles sorted upwards,
+  /// minDeg the first; each angle is triangleMinAngle() in degrees. The
+  /// positions must be finite.
+  ///
+  /// The result is the same as computing every face's angle, but only the
+  /// faces near the lowest percentile get one: every face gets the squared
+  /// sine of its smallest angle (no trigonometry), a 4096-bin histogram of
+  /// those picks a cut-off below which lie the n/100 smallest, and the
+  /// faces below the cut-off plus a margin of 1e-9 (far above the rounding
+  /// of either formula) get an angle. Every face left out has a larger
+  /// angle than all of those, so the ordered values up to the percentile
+  /// are the same. Both passes over the faces run on threads threads;
+  /// counts are integers, so the result does not depend on their number.
+  SweepQuality operator()(const FaceList& faces, const std::vector<Vec3>& pos, const std::vector<Vec3>& refNormal,
+                          int threads = 1) {
+    constexpr int kBins = 4096;  // a power of two: key * kBins is exact
+    constexpr double kMargin = 1e-9;
+    const long long nf = static_cast<long long>(faces.tri.size());
+    const bool checkInverted = !refNormal.empty();
+    key_.resize(static_cast<std::size_t>(nf));
+    histogram_.assign(kBins, 0);
+    long long live = 0;
+    SweepQuality q;
+    threads = std::max(1, std::min(threads, kMaxThreads));
+    const bool parallel = threads > 1 && nf >= 20000;
+    if (!parallel) threads = 1;
+    picked_.resize(threads);
+#ifdef _OPENMP
+#pragma omp parallel num_threads(threads) if (parallel)
+#endif
+    {
+      std::vector<long long> bins(kBins, 0);
+      long long inverted = 0, count = 0;
+#ifdef _OPENMP
+#pragma omp for schedule(static) nowait
+#endif
+      for (long long f = 0; f < nf; ++f) {
+        if (!faces.live[f]) {
+          key_[f] = 2;
+          continue;
+        }
+        const auto& t = faces.tri[f];
+        const Vec3 &a = pos[t[0]], &b = pos[t[1]], &c = pos[t[2]];
+        Vec3 area;
+        const double k = detail::minAngleSin2(a, b, c, area);  // in [0, 1]
+        key_[f] = k;
+        ++bins[k < 1 ? static_cast<int>(k * kBins) : kBins - 1];
+        ++count;
+        if (checkInverted) inverted += area * refNormal[f] < 0;
+      }
+#ifdef _OPENMP
+#pragma omp critical(sodt_sweep_quality)
+#endif
+      {
+        for (int j = 0; j < kBins; ++j) histogram_[j] += bins[j];
+        q.inverted += inverted;
+        live += count;
+      }
+    }
+    if (live == 0) return q;
+    const long long idx = static_cast<long long>(std::floor(0.01 * double(live - 1)));
+    // The lowest bin j such that bins ..j hold at least idx + 1 faces.
+    int j = 0;
+    for (long long below = histogram_[0]; below < idx + 1; below += histogram_[j]) ++j;
+    const double cut = double(j + 1) / kBins + kMargin;
+#ifdef _OPENMP
+#pragma omp parallel num_threads(threads) if (parallel)
+#endif
+    {
+#ifdef _OPENMP
+      std::vector<double>& mine = picked_[omp_get_thread_num()];
+#else
+      std::vector<double>& mine = picked_[0];
+#endif
+      mine.clear();
+#ifdef _OPENMP
+#pragma omp for schedule(static) nowait
+#endif
+      for (long long f = 0; f < nf; ++f)
+        if (key_[f] <= cut) {
+          const auto& t = faces.tri[f];
+          mine.push_back(triangleMinAngle(pos[t[0]], pos[t[1]], pos[t[2]]) * kRadToDeg);
+        }
+    }
+    deg_.clear();
+    for (const std::vector<double>& v : picked_) deg_.insert(deg_.end(), v.begin(), v.end());
+    std::nth_element(deg_.begin(), deg_.begin() + idx, deg_.end());
+    q.p1Deg = deg_[idx];
+    q.minDeg = *std::min_element(deg_.begin(), deg_.begin() + idx + 1);
+    return q;
+  }
+
+ private:
+  static constexpr int kMaxThreads = 1024;
+  std::vector<double> key_;
+  std::vector<long long> histogram_;
+  std::vector<std::vector<double>> picked_;  ///< per thread
+  std::vector<double> deg_;
+};
+
+/// SweepQualityMeter()(faces, pos, refNormal, threads), for a single call.
+inline SweepQuality measureSweepQuality(const FaceList& faces, const std::vector<Vec3>& pos,
+                                        const std::vector<Vec3>& refNormal, int threads = 1) {
+  return SweepQualityMeter()(faces, pos, refNormal, threads);
+}
+
+}  // namespace sodt
