@@ -7,6 +7,7 @@
 #include <sodt/lanes.h>
 #include <sodt/local_solve.h>
 #include <sodt/smoother.h>
+#include <sodt/sweep_quality.h>
 
 #include <gtest/gtest.h>
 
@@ -166,6 +167,73 @@ void expectSameRuns(const std::string& name, sodt::Guard guard, bool flips, int 
 }
 
 }  // namespace
+
+TEST(Lanes, FaceKeysMatchTheScalarPassBitForBit) {
+  if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
+  using sodt_test::uniform;
+  std::mt19937 g(77);
+  int mismatches = 0, inverted = 0, degenerate = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::vector<Vec3> pos, ref;
+    std::vector<int> tri;
+    for (int l = 0; l < sodt::lanes::kWidth; ++l) {
+      const double scale = std::pow(10.0, uniform(g, -6, 6));
+      Vec3 p[3];
+      for (Vec3& q : p) q = Vec3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1)) * scale;
+      switch (g() % 6) {
+        case 0:  // any triangle
+          break;
+        case 1:  // collinear
+          p[2] = p[0] + (p[1] - p[0]) * 0.25;
+          break;
+        case 2:  // a zero-length edge
+          p[1] = p[0];
+          break;
+        case 3:  // a single point
+          p[1] = p[2] = p[0];
+          break;
+        case 4:  // equilateral: three tied edges
+          p[0] = Vec3(1, 0, 0) * scale, p[1] = Vec3(0, 1, 0) * scale, p[2] = Vec3(0, 0, 1) * scale;
+          break;
+        case 5:  // integer coordinates, ties between edges
+          for (Vec3& q : p) q = Vec3(double(g() % 4), double(g() % 4), double(g() % 4));
+          break;
+      }
+      for (int j = 0; j < 3; ++j) {
+        tri.push_back(static_cast<int>(pos.size()));
+        pos.push_back(p[j]);
+      }
+      const Vec3 area = sodt::doubleAreaVector(p[0], p[1], p[2]);
+      const unsigned r = g() % 3;
+      ref.push_back(r == 0 ? area : r == 1 ? -area : Vec3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1)));
+    }
+    // The faces' vertices scattered over pos.
+    std::vector<int> perm(pos.size());
+    for (std::size_t v = 0; v < perm.size(); ++v) perm[v] = static_cast<int>(v);
+    std::shuffle(perm.begin(), perm.end(), g);
+    std::vector<Vec3> scattered(pos.size());
+    for (std::size_t v = 0; v < pos.size(); ++v) scattered[perm[v]] = pos[v];
+    for (int& v : tri) v = perm[v];
+    pos.swap(scattered);
+    sodt::lanes::FaceKeys out;
+    sodt::lanes::faceKeys4(&pos[0][0], tri.data(), &ref[0][0], out);
+    for (int l = 0; l < sodt::lanes::kWidth; ++l) {
+      Vec3 area;
+      const double want = sodt::detail::minAngleSin2(pos[tri[3 * l]], pos[tri[3 * l + 1]], pos[tri[3 * l + 2]], area);
+      const bool inv = area * ref[l] < 0;
+      mismatches += !sameBits(out.key[l], want) || ((out.inverted >> l & 1) != 0) != inv;
+      inverted += inv;
+      degenerate += want == 0;
+    }
+    sodt::lanes::FaceKeys none;
+    none.inverted = -1;
+    sodt::lanes::faceKeys4(&pos[0][0], tri.data(), nullptr, none);
+    EXPECT_EQ(none.inverted, 0);
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(inverted, 10000) << "the trials should turn faces over";
+  EXPECT_GT(degenerate, 10000) << "the trials should hold degenerate faces";
+}
 
 TEST(Lanes, SweepsAreTheSameWithAndWithoutTheKernel) {
   if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";

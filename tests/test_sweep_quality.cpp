@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "test_mesh.h"
@@ -62,12 +63,14 @@ Grid makeGrid(int n, double jitter, unsigned seed) {
 
 void expectSame(const Grid& gr, const char* what) {
   const sodt::SweepQuality want = everyFaceMeasured(gr.faces, gr.pos, gr.ref);
-  for (int threads : {1, 2, 3}) {
-    const sodt::SweepQuality got = sodt::measureSweepQuality(gr.faces, gr.pos, gr.ref, threads);
-    EXPECT_EQ(got.minDeg, want.minDeg) << what << ", " << threads << " threads";
-    EXPECT_EQ(got.p1Deg, want.p1Deg) << what << ", " << threads << " threads";
-    EXPECT_EQ(got.inverted, want.inverted) << what << ", " << threads << " threads";
-  }
+  for (bool simd : {false, true})
+    for (int threads : {1, 2, 3}) {
+      const sodt::SweepQuality got = sodt::measureSweepQuality(gr.faces, gr.pos, gr.ref, threads, simd);
+      const std::string how = std::string(what) + ", " + std::to_string(threads) + " threads" + (simd ? ", lanes" : "");
+      EXPECT_EQ(got.minDeg, want.minDeg) << how;
+      EXPECT_EQ(got.p1Deg, want.p1Deg) << how;
+      EXPECT_EQ(got.inverted, want.inverted) << how;
+    }
 }
 
 TEST(SweepQuality, SameAsEveryFaceMeasured) {

@@ -38,6 +38,13 @@ struct Targets {
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "positions must be packed x, y, z doubles");
 
+/// Output of faceKeys4.
+struct FaceKeys {
+  double key[kWidth];
+  /// Bit l set: face l's area vector points against its reference normal.
+  int inverted = 0;
+};
+
 /// True when this build has the kernel and the processor can run it.
 inline bool available() {
 #ifdef SODT_HAVE_LANES
@@ -210,10 +217,53 @@ SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int 
     default: out.ok = 0; return;
   }
 }
+
+namespace detail {
+/// The vertices tri[0], tri[3], tri[6], tri[9] of pos (x, y, z per
+/// vertex): three-wide loads (none reads past a vertex) and a transpose.
+SODT_LANES_TARGET inline V3 loadCorner(const double* pos, const int* tri) {
+  const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);
+  const __m256d p0 = _mm256_maskload_pd(pos + 3 * tri[0], xyz), p1 = _mm256_maskload_pd(pos + 3 * tri[3], xyz);
+  const __m256d p2 = _mm256_maskload_pd(pos + 3 * tri[6], xyz), p3 = _mm256_maskload_pd(pos + 3 * tri[9], xyz);
+  const __m256d x01z01 = _mm256_unpacklo_pd(p0, p1), y01 = _mm256_unpackhi_pd(p0, p1);
+  const __m256d x23z23 = _mm256_unpacklo_pd(p2, p3), y23 = _mm256_unpackhi_pd(p2, p3);
+  return V3{_mm256_permute2f128_pd(x01z01, x23z23, 0x20), _mm256_permute2f128_pd(y01, y23, 0x20),
+            _mm256_permute2f128_pd(x01z01, x23z23, 0x31)};
+}
+}  // namespace detail
+
+/// For four faces with vertex indices tri[0..11] (three per face), computes
+/// what the per-face pass of SweepQualityMeter does for each, bit for bit:
+/// the key minAngleSin2 (sweep_quality.h) and, when ref is not null, whether
+/// doubleAreaVector(a, b, c) * ref[face] < 0, ref holding the four faces'
+/// normals as x, y, z doubles. pos holds x, y, z per vertex.
+SODT_LANES_TARGET inline void faceKeys4(const double* pos, const int* tri, const double* ref, FaceKeys& out) {
+  using namespace detail;
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const V3 a = loadCorner(pos, tri), b = loadCorner(pos, tri + 1), c = loadCorner(pos, tri + 2);
+  const V3 ab{sub(b.x, a.x), sub(b.y, a.y), sub(b.z, a.z)};
+  const V3 ac{sub(c.x, a.x), sub(c.y, a.y), sub(c.z, a.z)};
+  const V3 bc{sub(c.x, b.x), sub(c.y, b.y), sub(c.z, b.z)};
+  const V3 area = cross(ab, ac);
+  const __m256d l1 = dot(ab, ab), l2 = dot(ac, ac), l3 = dot(bc, bc);
+  // std::max(x, y) is x unless x < y, _mm256_max_pd(x, y) is y unless
+  // x > y: the same value for the finite, non-negative lengths here.
+  const __m256d longest = _mm256_max_pd(_mm256_max_pd(l1, l2), l3);
+  const __m256d middle = _mm256_max_pd(_mm256_min_pd(l1, l2), _mm256_min_pd(_mm256_max_pd(l1, l2), l3));
+  const __m256d den = mul(longest, middle);
+  const __m256d s2 = _mm256_min_pd(_mm256_div_pd(dot(area, area), den), one);
+  _mm256_storeu_pd(out.key, _mm256_and_pd(_mm256_cmp_pd(den, zero, _CMP_GT_OQ), s2));
+  out.inverted = 0;
+  if (ref) {
+    const V3 r = gather(ref, _mm_setr_epi32(0, 3, 6, 9));
+    out.inverted = _mm256_movemask_pd(_mm256_cmp_pd(dot(area, r), zero, _CMP_LT_OQ));
+  }
+}
 #undef SODT_LANES_TARGET
 #else
-/// No kernel in this build: available() is false, so this is never called.
+/// No kernel in this build: available() is false, so these are never called.
 inline void targets4(const double*, const int*, int, Targets& out) { out.ok = 0; }
+inline void faceKeys4(const double*, const int*, const double*, FaceKeys& out) { out.inverted = 0; }
 #endif
 
 }  // namespace lanes

@@ -70,8 +70,9 @@ struct SodtParams {
   bool reuseDeviationMargins = true;
   /// Performance only: Algorithm 1 sweeps solve four vertices at once in
   /// AVX2 lanes when the processor has them (see lanes.h); the guards then
-  /// check each vertex's move as usual. The results are the same bit for
-  /// bit either way.
+  /// check each vertex's move as usual. The quality measured after each
+  /// sweep for keepBest and toleranceDeg takes four faces at once too. The
+  /// results are the same bit for bit either way.
   bool simd = true;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.

@@ -216,7 +216,7 @@ struct SodtSmoother {
     // quality, for toleranceDeg.
     const bool measuring = p.keepBest || p.toleranceDeg > 0;
     SweepQualityMeter meter;
-    Quality last = measuring ? meter(faces, pos, faceNormal, threads) : Quality{};
+    Quality last = measuring ? meter(faces, pos, faceNormal, threads, p.simd) : Quality{};
     Quality best = last;
     std::vector<Vec3> bestPos = p.keepBest ? pos : std::vector<Vec3>();
     FaceList bestFaces = p.keepBest && p.flips ? faces : FaceList();
@@ -413,7 +413,7 @@ struct SodtSmoother {
       }
       bool stop = false;
       if (measuring) {
-        const Quality q = meter(faces, pos, faceNormal, threads);
+        const Quality q = meter(faces, pos, faceNormal, threads, p.simd);
         if (p.keepBest && q.better(best)) {
           best = q;
           bestSweep = it + 1;
