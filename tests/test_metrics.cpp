@@ -3,10 +3,12 @@
 #include "test_mesh.h"
 
 #include <sodt/metrics.h>
+#include <vcg/complex/append.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 #include <cstring>
 #include <utility>
 #include <vector>
@@ -49,6 +51,93 @@ TEST(Metrics, VolumeOfCubeAndOpenMesh) {
   Mesh g;
   sodt_test::makeGrid(g, 4, 0.0, 1);
   EXPECT_FALSE(sodt::enclosedVolume(g).closed);
+}
+
+namespace {
+
+/// The definition of isClosedOriented, on all directed edges at once: none
+/// twice, each with its reverse.
+bool closedOrientedByDefinition(const Mesh& m) {
+  std::vector<std::pair<int, int>> half;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    for (int j = 0; j < 3; ++j)
+      half.emplace_back(int(f.cV(j) - &m.vert[0]), int(f.cV((j + 1) % 3) - &m.vert[0]));
+  }
+  if (half.empty()) return false;
+  std::sort(half.begin(), half.end());
+  if (std::adjacent_find(half.begin(), half.end()) != half.end()) return false;
+  for (const auto& h : half)
+    if (!std::binary_search(half.begin(), half.end(), std::make_pair(h.second, h.first))) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST(Metrics, ClosedOrientedAgreesWithItsDefinition) {
+  // Spheres, whole and edited: a face removed, turned over, doubled, deleted,
+  // a fin on an edge, two spheres.
+  int closed = 0, open = 0;
+  const auto check = [&](const Mesh& m, const char* what) {
+    const bool want = closedOrientedByDefinition(m);
+    EXPECT_EQ(sodt::isClosedOriented(m), want) << what;
+    (want ? closed : open)++;
+  };
+  Mesh s;
+  sodt_test::makeSphere(s, 3);
+  check(s, "sphere");
+  {
+    Mesh e;
+    vcg::tri::Append<Mesh, Mesh>::MeshCopy(e, s);
+    vcg::tri::Allocator<Mesh>::DeleteFace(e, e.face[7]);
+    check(e, "a face deleted");
+    e.face[7].ClearD();
+    ++e.fn;
+    check(e, "the face back");
+    std::swap(e.face[3].V(0), e.face[3].V(1));
+    check(e, "a face turned over");
+  }
+  {
+    Mesh e;
+    vcg::tri::Append<Mesh, Mesh>::MeshCopy(e, s);
+    sodt_test::addFace(e, int(e.face[5].V(0) - &e.vert[0]), int(e.face[5].V(1) - &e.vert[0]),
+                       int(e.face[5].V(2) - &e.vert[0]));
+    check(e, "a face doubled");
+  }
+  {
+    Mesh e;
+    vcg::tri::Append<Mesh, Mesh>::MeshCopy(e, s);
+    const int a = int(e.face[0].V(0) - &e.vert[0]), b = int(e.face[0].V(1) - &e.vert[0]);
+    vcg::tri::Allocator<Mesh>::AddVertex(e, vcg::Point3d(0, 0, 3));
+    const int c = int(e.vert.size()) - 1;
+    sodt_test::addFace(e, b, a, c);  // a third face on edge (a, b)
+    sodt_test::addFace(e, a, b, c);  // and its reverse: every edge paired, (a, b) four times
+    check(e, "a fin on an edge");
+  }
+  {
+    Mesh e;
+    vcg::tri::Append<Mesh, Mesh>::MeshCopy(e, s);
+    vcg::tri::Append<Mesh, Mesh>::Mesh(e, s);
+    check(e, "two spheres");
+  }
+  check(Mesh(), "empty");
+  // Random small face sets over few vertices: repeated and degenerate faces,
+  // pairs that close up by chance.
+  std::mt19937 g(5);
+  for (int trial = 0; trial < 3000; ++trial) {
+    Mesh r;
+    const int nv = 3 + int(g() % 5);
+    vcg::tri::Allocator<Mesh>::AddVertices(r, nv);
+    const int nf = 1 + int(g() % 8);
+    for (int f = 0; f < nf; ++f) {
+      const int a = int(g() % nv), b = int(g() % nv), c = int(g() % nv);
+      sodt_test::addFace(r, a, b, c);
+      if (g() % 2) sodt_test::addFace(r, a, c, b);  // its reverse: closes it up
+    }
+    check(r, "random faces");
+  }
+  EXPECT_GT(closed, 100);
+  EXPECT_GT(open, 100);
 }
 
 TEST(Metrics, HausdorffOfTranslatedCopy) {

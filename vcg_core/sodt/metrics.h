@@ -368,22 +368,40 @@ AngleStats computeAngleStats(const MeshType& m) {
 }
 
 /// True when every edge of the live faces is shared by exactly two faces that
-/// traverse it in opposite directions (closed, manifold along edges, oriented).
+/// traverse it in opposite directions (closed, manifold along edges, oriented):
+/// no directed edge a->b occurs twice, and each has its reverse b->a. The
+/// directed edges are bucketed by their first vertex, so the test is linear
+/// in the faces (times the valence), without sorting them all.
 template <class MeshType>
 bool isClosedOriented(const MeshType& m) {
-  std::vector<std::pair<int, int>> half;
+  if (m.vert.empty()) return false;
+  const std::size_t nv = m.vert.size();
+  std::vector<int> begin(nv + 1, 0);
+  long long halfEdges = 0;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    for (int j = 0; j < 3; ++j) ++begin[f.cV(j) - &m.vert[0] + 1];
+    halfEdges += 3;
+  }
+  if (halfEdges == 0) return false;
+  for (std::size_t v = 0; v < nv; ++v) begin[v + 1] += begin[v];
+  // to[begin[a] .. begin[a + 1]): the ends of the directed edges leaving a.
+  std::vector<int> to(static_cast<std::size_t>(halfEdges)), fill(begin.begin(), begin.end() - 1);
   for (const auto& f : m.face) {
     if (f.IsD()) continue;
     for (int j = 0; j < 3; ++j)
-      half.emplace_back(int(f.cV(j) - &m.vert[0]), int(f.cV((j + 1) % 3) - &m.vert[0]));
+      to[fill[f.cV(j) - &m.vert[0]]++] = static_cast<int>(f.cV((j + 1) % 3) - &m.vert[0]);
   }
-  if (half.empty()) return false;
-  std::sort(half.begin(), half.end());
-  for (std::size_t i = 0; i < half.size(); ++i) {
-    if (i > 0 && half[i] == half[i - 1]) return false;
-    if (!std::binary_search(half.begin(), half.end(), std::make_pair(half[i].second, half[i].first)))
-      return false;
+  for (std::size_t a = 0; a < nv; ++a) {
+    const auto first = to.begin() + begin[a], last = to.begin() + begin[a + 1];
+    std::sort(first, last);
+    if (std::adjacent_find(first, last) != last) return false;
   }
+  for (std::size_t a = 0; a < nv; ++a)
+    for (int k = begin[a]; k < begin[a + 1]; ++k) {
+      const int b = to[k];
+      if (!std::binary_search(to.begin() + begin[b], to.begin() + begin[b + 1], static_cast<int>(a))) return false;
+    }
   return true;
 }
 
