@@ -28,6 +28,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
@@ -492,9 +493,10 @@ struct Distance {
 /// no file written afterwards contains) unless a vertex of m lies more than
 /// one diagonal outside ref's bounding box, as after a diverged unguarded
 /// run: then sampling says nothing more and can take very long, and the
-/// vertex distance to the box is reported as a lower bound.
+/// vertex distance to the box is reported as a lower bound. The lookups run
+/// on threads threads (the result does not depend on their number).
 template <class RefMesh>
-Distance distanceTo(MeshD& m, RefMesh& ref) {
+Distance distanceTo(MeshD& m, RefMesh& ref, int threads) {
   vcg::Box3d box;
   for (const auto& v : ref.vert)
     if (!v.IsD()) box.Add(v.cP());
@@ -516,7 +518,7 @@ Distance distanceTo(MeshD& m, RefMesh& ref) {
     r.lowerBound = true;
     return r;
   }
-  const sodt::DistanceStats d = sodt::surfaceDistanceInPlace(m, ref);
+  const sodt::DistanceStats d = sodt::surfaceDistanceInPlace(m, ref, threads);
   r.hausdorff = d.maxRel;
   r.mean = d.meanRel;
   return r;
@@ -934,7 +936,7 @@ int runSmooth(const std::vector<std::string>& args) {
   {
     sodt::SampleMesh ref;  // freed before the save, which reads OUT back
     rebuildInput(input, m, ref);
-    dist = distanceTo(m, ref);
+    dist = distanceTo(m, ref, st.threads);
     inverted = sodt::countInvertedFaces(m, ref);
   }
   gStatus.end(false);
@@ -1003,7 +1005,7 @@ int runStats(const std::vector<std::string>& args) {
   j.member("faces", m.fn);
   writeMeasures(j, s);
   if (!reference.empty()) {
-    const Distance d = distanceTo(m, ref);
+    const Distance d = distanceTo(m, ref, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
     const long long inv = (m.vn == ref.vn && m.fn == ref.fn) ? sodt::countInvertedFaces(m, ref) : -1;
     j.member("reference", reference);
     writeDistance(j, d);

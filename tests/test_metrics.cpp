@@ -204,15 +204,18 @@ TEST(Metrics, DistanceSamplerMatchesVcgHausdorffSampler) {
   sodt::detail::copyLive(b, Bs);
   const double bound = 10.0;
   const auto expected = vcgOneSided(A, B, bound);
-  const auto ab = sodt::detail::oneSidedDistance(As, Bs, bound);
-  EXPECT_TRUE(sameBits(ab.first, expected.first)) << ab.first << " vs " << expected.first;
-  EXPECT_TRUE(sameBits(ab.second, expected.second)) << ab.second << " vs " << expected.second;
   const auto expectedBa = vcgOneSided(B, A, bound);
   vcg::tri::UpdateBounding<Mesh>::Box(a);
   vcg::tri::UpdateBounding<Mesh>::Box(b);
-  const auto ba = sodt::detail::oneSidedDistance(b, a, bound);  // MeshD in place, no copy
-  EXPECT_TRUE(sameBits(ba.first, expectedBa.first)) << ba.first << " vs " << expectedBa.first;
-  EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second;
+  // More than 10000 samples each way: the lookups are split over the threads.
+  for (int threads : {1, 2, 3}) {
+    const auto ab = sodt::detail::oneSidedDistance(As, Bs, bound, threads);
+    EXPECT_TRUE(sameBits(ab.first, expected.first)) << ab.first << " vs " << expected.first << ", " << threads;
+    EXPECT_TRUE(sameBits(ab.second, expected.second)) << ab.second << " vs " << expected.second << ", " << threads;
+    const auto ba = sodt::detail::oneSidedDistance(b, a, bound, threads);  // MeshD in place, no copy
+    EXPECT_TRUE(sameBits(ba.first, expectedBa.first)) << ba.first << " vs " << expectedBa.first << ", " << threads;
+    EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second << ", " << threads;
+  }
 }
 
 /// A mesh with a spike against the same mesh without it (what smoothing

@@ -191,6 +191,38 @@ class DistanceSampler {
     addSample(f.cP(0) * interp[0] + f.cP(1) * interp[1] + f.cP(2) * interp[2]);
   }
 
+  /// Looks up the samples taken so far, on threads threads, and adds their
+  /// distances in the order they were taken, as HausdorffSampler adds them
+  /// one by one: the result does not depend on the number of threads. (The
+  /// parallel searches do not mark faces, so a face in several cells may be
+  /// measured more than once: the smallest distance is the same.)
+  void measure(int threads) {
+    const long long n = static_cast<long long>(points_.size());
+    std::vector<ScalarType> dist(points_.size());
+    threads = std::max(1, std::min(threads, 1024));
+    if (to_.fn == 0 || threads == 1 || n < 4096) {
+      for (long long i = 0; i < n; ++i) dist[i] = closest(points_[i], marker_);
+    } else {
+#ifdef _OPENMP
+#pragma omp parallel num_threads(threads)
+#endif
+      {
+        vcg::tri::EmptyTMark<To> none;
+#ifdef _OPENMP
+#pragma omp for schedule(dynamic, 1024)
+#endif
+        for (long long i = 0; i < n; ++i) dist[i] = closest(points_[i], none);
+      }
+    }
+    for (const ScalarType d : dist) {
+      if (d == upperBound_) continue;  // nothing closer than the bound: not counted
+      if (d > maxDist_) maxDist_ = d;
+      sumDist_ += d;
+      ++samples_;
+    }
+    points_.clear();
+  }
+
   int samples() const { return samples_; }
   /// Largest distance, rounded to float like HausdorffSampler::getMaxDist.
   float maxDist() const { return float(maxDist_); }
@@ -198,21 +230,22 @@ class DistanceSampler {
   float meanDist() const { return float(sumDist_ / samples_); }
 
  private:
-  /// HausdorffSampler::AddSample: a point without a surface point closer
-  /// than the upper bound is not counted.
-  void addSample(const CoordType& p) {
+  /// Samples are looked up by measure().
+  void addSample(const CoordType& p) { points_.push_back(p); }
+
+  /// The distance HausdorffSampler::AddSample finds for p: the upper bound
+  /// when no surface point is closer.
+  template <class Marker>
+  ScalarType closest(const CoordType& p, Marker& marker) {
     ScalarType dist = upperBound_;
     if (to_.fn == 0) {
       vcg::tri::GetClosestVertex<To, VertexGrid>(to_, vertexGrid_, p, upperBound_, dist);
     } else {
       vcg::face::PointDistanceBaseFunctor<ScalarType> pointFaceDistance;
-      CoordType closest;
-      faceGrid_.GetClosest(pointFaceDistance, marker_, p, upperBound_, dist, closest);
+      CoordType closestPoint;
+      faceGrid_.GetClosest(pointFaceDistance, marker, p, upperBound_, dist, closestPoint);
     }
-    if (dist == upperBound_) return;
-    if (dist > maxDist_) maxDist_ = dist;
-    sumDist_ += dist;
-    ++samples_;
+    return dist;
   }
 
   /// Grid over the live elements [begin, end), as vcglib lays it, or over
@@ -246,6 +279,7 @@ class DistanceSampler {
   VertexGrid vertexGrid_;
   vcg::tri::FaceTmark<To> marker_;
   ScalarType upperBound_;
+  std::vector<CoordType> points_;  ///< taken, not looked up yet
   double maxDist_ = 0;
   double sumDist_ = 0;
   int samples_ = 0;
@@ -256,7 +290,7 @@ class DistanceSampler {
 /// meshes (MeshD or SampleMesh) without deleted faces and with an up-to-date
 /// bounding box; `to` gets normalized face normals and fresh face marks.
 template <class From, class To>
-std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound) {
+std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound, int threads = 1) {
   using Sampler = DistanceSampler<To>;
   vcg::tri::InitFaceIMark(to);  // the closest-face search marks faces
   Sampler hs(to, upperBound, from.bbox);
@@ -270,6 +304,7 @@ std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound
     SS::VertexUniform(from, hs, kMaxVertexSamples);
   const int faceSamples = std::min(kMaxFaceSamples, std::max(10000, 2 * from.fn));
   if (from.fn > 0 && totalArea(from) > 0) SS::Montecarlo(from, hs, faceSamples);  // no area: nothing to sample
+  hs.measure(threads);
   if (hs.samples() == 0) return {std::numeric_limits<double>::infinity(), 0.0};
   return {double(hs.maxDist()), double(hs.meanDist())};
 }
@@ -278,7 +313,7 @@ std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound
 /// leaves them, or see samplesAsIs): double, no deleted face, no live vertex
 /// outside the live faces, bounding boxes up to date.
 template <class MeshA, class MeshB>
-DistanceStats distanceAsIs(MeshA& A, MeshB& B) {
+DistanceStats distanceAsIs(MeshA& A, MeshB& B, int threads) {
   DistanceStats d;
   const double diag = B.bbox.Diag();
   if (A.fn == 0 || B.fn == 0 || !(diag > 0) || !std::isfinite(diag) || !std::isfinite(A.bbox.Diag())) {
@@ -316,8 +351,8 @@ DistanceStats distanceAsIs(MeshA& A, MeshB& B) {
   const bool aFlat = !(totalArea(A) > 0), bFlat = !(totalArea(B) > 0);
   if (aFlat) pointsOnly(A, Apts);
   if (bFlat) pointsOnly(B, Bpts);
-  const auto ab = bFlat ? oneSidedDistance(A, Bpts, bound) : oneSidedDistance(A, B, bound);
-  const auto ba = aFlat ? oneSidedDistance(B, Apts, bound) : oneSidedDistance(B, A, bound);
+  const auto ab = bFlat ? oneSidedDistance(A, Bpts, bound, threads) : oneSidedDistance(A, B, bound, threads);
+  const auto ba = aFlat ? oneSidedDistance(B, Apts, bound, threads) : oneSidedDistance(B, A, bound, threads);
   d.maxRel = std::max(ab.first, ba.first) / diag;
   d.meanRel = 0.5 * (ab.second + ba.second) / diag;
   return d;
@@ -455,13 +490,14 @@ double bboxDiagonal(const MeshType& m) {
 /// SampleMesh). Returns +inf when a mesh has no faces or a non-finite
 /// coordinate. When a vertex lies more than kFarDiagonals diagonals outside
 /// the other mesh's bounding box, maxRel is that box distance (a lower bound
-/// of the Hausdorff distance) and meanRel is NaN.
+/// of the Hausdorff distance) and meanRel is NaN. The samples are looked up
+/// on threads threads, with the same result for any number.
 template <class MeshA, class MeshB>
-DistanceStats surfaceDistance(const MeshA& a, const MeshB& b) {
+DistanceStats surfaceDistance(const MeshA& a, const MeshB& b, int threads = 1) {
   SampleMesh A, B;
   detail::copyLive(a, A);
   detail::copyLive(b, B);
-  return detail::distanceAsIs(A, B);
+  return detail::distanceAsIs(A, B, threads);
 }
 
 /// surfaceDistance(a, b), the same result bit for bit, without copying a
@@ -473,7 +509,7 @@ DistanceStats surfaceDistance(const MeshA& a, const MeshB& b) {
 /// (vcglib's closest-face search needs them); its positions, faces, vertex
 /// normals, quality, colour and flags are left alone.
 template <class MeshA, class MeshB>
-DistanceStats surfaceDistanceInPlace(MeshA& a, MeshB& b) {
+DistanceStats surfaceDistanceInPlace(MeshA& a, MeshB& b, int threads = 1) {
   const bool copyA = !detail::samplesAsIs(a), copyB = !detail::samplesAsIs(b);
   SampleMesh A, B;
   if (copyA)
@@ -484,10 +520,10 @@ DistanceStats surfaceDistanceInPlace(MeshA& a, MeshB& b) {
     detail::copyLive(b, B);
   else
     vcg::tri::UpdateBounding<MeshB>::Box(b);
-  if (copyA && copyB) return detail::distanceAsIs(A, B);
-  if (copyA) return detail::distanceAsIs(A, b);
-  if (copyB) return detail::distanceAsIs(a, B);
-  return detail::distanceAsIs(a, b);
+  if (copyA && copyB) return detail::distanceAsIs(A, B, threads);
+  if (copyA) return detail::distanceAsIs(A, b, threads);
+  if (copyB) return detail::distanceAsIs(a, B, threads);
+  return detail::distanceAsIs(a, b, threads);
 }
 
 /// Symmetric Hausdorff distance relative to b's bounding-box diagonal.
