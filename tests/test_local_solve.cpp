@@ -460,3 +460,50 @@ TEST(Odt, EqualsSodtOnPlanarStarsAndMinimisesEq3) {
     }
   }
 }
+
+namespace {
+
+/// True when x is a float value (finite, normal or zero): at most 24
+/// significant bits. Checked on the bits, with no float conversion an
+/// optimiser could fold away.
+bool isFloatValue(double x) {
+  if (x == 0) return true;
+  int e = 0;
+  const double m = std::ldexp(std::frexp(x, &e), 24);  // |m| in [2^23, 2^24)
+  return m == std::trunc(m) && e <= 128 && e >= -125;
+}
+
+/// The step of a guarded move as the smoother computes it: a point moved by
+/// a fraction of a step, rounded to float. Not inlined, so that each call
+/// is compiled the way the smoother's own code is (two neighbouring
+/// conversions that a vectorizer may pair).
+__attribute__((noinline)) Vec3 steppedToFloat(const Vec3& c, const Vec3& step, double f) {
+  return sodt::roundedTo<float>(c + step * f);
+}
+
+}  // namespace
+
+TEST(Geometry, RoundedToFloatRoundsEveryCoordinate) {
+  std::mt19937 g(31);
+  int unrounded = 0, far = 0;
+  for (int trial = 0; trial < 100000; ++trial) {
+    const Vec3 c(sodt_test::uniform(g, -2, 2), sodt_test::uniform(g, -2, 2), sodt_test::uniform(g, -2, 2));
+    const Vec3 step(sodt_test::uniform(g, -0.1, 0.1), sodt_test::uniform(g, -0.1, 0.1), sodt_test::uniform(g, -0.1, 0.1));
+    const double f = std::ldexp(1.0, -static_cast<int>(g() % 5));
+    const Vec3 x = c + step * f;
+    const Vec3 y = steppedToFloat(c, step, f);
+    for (int j = 0; j < 3; ++j) {
+      unrounded += !isFloatValue(y[j]);
+      // The nearest float: within half a float unit in the last place.
+      far += !(std::abs(y[j] - x[j]) <= std::ldexp(std::abs(x[j]), -24));
+    }
+  }
+  EXPECT_EQ(unrounded, 0);
+  EXPECT_EQ(far, 0);
+  // A double is kept as it is.
+  const Vec3 p(0.1, 0.2, 0.3);
+  const Vec3 q = sodt::roundedTo<double>(p);
+  EXPECT_EQ(std::memcmp(&p, &q, sizeof p), 0);
+  EXPECT_FALSE(isFloatValue(0.1));
+  EXPECT_TRUE(isFloatValue(static_cast<double>(0.1f)));
+}

@@ -112,6 +112,28 @@ inline void tangentFrame(const Vec3& n, Vec3& s, Vec3& t) {
   t = n ^ s;
 }
 
+/// x rounded to the nearest value of the scalar type S, as a double: what a
+/// mesh with S coordinates stores for x. The rounded value is read back
+/// through a volatile so that no optimiser can drop the rounding: GCC 12.2
+/// at -O2 does drop it when its SLP vectorizer pairs two neighbouring
+/// double -> float -> double conversions (then x and y of a point stay
+/// unrounded while z is rounded).
+template <class S>
+inline double roundedTo(double x) {
+  const volatile S s = static_cast<S>(x);
+  return static_cast<double>(s);
+}
+template <>
+inline double roundedTo<double>(double x) {
+  return x;
+}
+
+/// roundedTo for every coordinate of p.
+template <class S>
+inline Vec3 roundedTo(const Vec3& p) {
+  return Vec3(roundedTo<S>(p[0]), roundedTo<S>(p[1]), roundedTo<S>(p[2]));
+}
+
 /// True when every coordinate is finite.
 inline bool isFinite(const Vec3& p) {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);

@@ -593,7 +593,7 @@ struct SodtSmoother {
 
   /// Rounds a double position to what the mesh can store.
   static Vec3 representable(const Vec3& x) {
-    return Vec3(double(ScalarType(x[0])), double(ScalarType(x[1])), double(ScalarType(x[2])));
+    return roundedTo<ScalarType>(x);
   }
 
   /// One visit's view of the deviation guard's margins (see
