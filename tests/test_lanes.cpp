@@ -121,6 +121,128 @@ TEST(Lanes, KernelMatchesTheScalarSolveBitForBit) {
   EXPECT_GT(failed, 10000);
 }
 
+TEST(Lanes, FullStepVerdictMatchesTheScalarGuardBitForBit) {
+  if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
+  using sodt_test::uniform;
+  std::mt19937 g(9090);
+  int mismatches = 0, allowed = 0, refused = 0, undecided = 0, laterFirst = 0;
+  for (int trial = 0; trial < 24000; ++trial) {
+    const int n = 3 + trial % (sodt::lanes::kMaxValence - 2);
+    sodt::lanes::GuardInput in;
+    in.quality = trial / 3 % 2 == 0;
+    in.roundToFloat = trial / 6 % 2 == 0;
+    const bool withRef = trial / 12 % 4 != 0;
+    std::vector<Vec3> pos, faceNormal;
+    std::vector<int> ringIdx, ringFace, begin, centre;
+    std::vector<sodt::Star> stars(sodt::lanes::kWidth);
+    for (int l = 0; l < sodt::lanes::kWidth; ++l) {
+      // Mostly well-shaped stars, so that full steps are both accepted and refused.
+      const Kind kind = g() % 2 ? Kind::Jittered : static_cast<Kind>(g() % static_cast<unsigned>(Kind::Count));
+      std::vector<Vec3> pts = makeStar(kind, n, g);
+      if (g() % 6 == 0) {
+        // A regular star with its centre at the middle, away from the
+        // origin: the target is the centre up to rounding, so the step
+        // rounds to no move at all.
+        pts[0] = Vec3(1, 2, 3);
+        for (int k = 0; k < n; ++k)
+          pts[k + 1] = pts[0] + Vec3(std::cos(2 * sodt::kPi * k / n), std::sin(2 * sodt::kPi * k / n), 0) * 0.5;
+      }
+      if (g() % 4 == 0) {
+        // One star triangle nearly flat now, about as flat as the fold
+        // test's threshold for using the plane normal instead.
+        const int k = static_cast<int>(g() % static_cast<unsigned>(n)), k1 = (k + 1) % n;
+        const Vec3 u = pts[1 + k] - pts[0];
+        Vec3 side = u ^ Vec3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1));
+        const Vec3 w = u * uniform(g, 0.3, 1.5);
+        const double big = std::max({u.SquaredNorm(), w.SquaredNorm(), (w - u).SquaredNorm()});
+        if (side.Norm() > 0 && u.Norm() > 0) {
+          side /= side.Norm();
+          pts[1 + k1] = pts[0] + w + side * (1e-12 * big / u.Norm() * uniform(g, 0.3, 3));
+        }
+      }
+      if (n % 2 == 0 && n >= 6 && g() % 3 == 0) {
+        // A ring symmetric about the origin, so the target is the origin up
+        // to rounding, with ring vertices 0 and 1 nearly in line with it:
+        // the move flattens that triangle to about the fold test's collapse
+        // threshold, and so does the opposite one. The centre starts on
+        // the line of that pair, where both triangles are as flat already
+        // and keep the ring's orientation.
+        const int m = n / 2;
+        const double r0 = uniform(g, 0.5, 1.5), t = uniform(g, 0.2, 0.9);
+        const double eps = 1e-12 * r0 * uniform(g, 0.5, 2);
+        std::vector<Vec3> half{Vec3(r0, 0, 0), Vec3(t * r0, eps, 0)};
+        for (int j = 1; j <= m - 2; ++j) {
+          const double ang = sodt::kPi * j / (m - 1), r = uniform(g, 0.5, 1.5);
+          half.push_back(Vec3(r * std::cos(ang), r * std::sin(ang), 0));
+        }
+        pts[0] = Vec3(0.1 * r0, 0, 0);
+        for (int k = 0; k < m; ++k) pts[1 + k] = half[k], pts[1 + m + k] = -half[k];
+      }
+      if (in.roundToFloat)  // a float mesh holds float positions
+        for (Vec3& q : pts) q = sodt::roundedTo<float>(q);
+      centre.push_back(static_cast<int>(pos.size()));
+      begin.push_back(static_cast<int>(ringIdx.size()));
+      for (int k = 0; k < n; ++k) {
+        ringIdx.push_back(static_cast<int>(pos.size()) + 1 + k);
+        // The input normal of each star triangle: its own, turned over, any direction, or none.
+        const Vec3 area = sodt::doubleAreaVector(pts[0], pts[1 + k], pts[1 + (k + 1) % n]);
+        const double len = area.Norm();
+        const unsigned r = g() % 8;
+        Vec3 ref = r < 5 && len > 0 ? area / len : r == 5 && len > 0 ? area / -len : Vec3(0, 0, 0);
+        if (r == 6) ref = Vec3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1));
+        ringFace.push_back(static_cast<int>(faceNormal.size()));
+        faceNormal.push_back(ref);
+      }
+      pos.insert(pos.end(), pts.begin(), pts.end());
+      stars[l].center = pts[0];
+      stars[l].ring.assign(pts.begin() + 1, pts.end());
+      if (withRef)
+        for (int k = 0; k < n; ++k) stars[l].refNormal.push_back(faceNormal[ringFace[begin[l] + k]]);
+    }
+    in.faceNormal = withRef ? &faceNormal[0][0] : nullptr;
+    std::vector<int> table(sodt::lanes::kWidth * (2 * n + 1));
+    sodt::lanes::packGroup(centre.data(), ringIdx.data(), begin.data(), n, table.data(), ringFace.data());
+    sodt::lanes::Targets t;
+    sodt::lanes::StepVerdict v;
+    sodt::lanes::targets4(&pos[0][0], table.data(), n, t, &in, &v);
+    for (int l = 0; l < sodt::lanes::kWidth; ++l) {
+      const bool a = (v.allowed >> l & 1) != 0, r = (v.refused >> l & 1) != 0;
+      if (!(t.ok >> l & 1)) {
+        mismatches += a || r;
+        continue;
+      }
+      // The scalar guard of a visit, on the kernel's target and normal.
+      const sodt::Star& st = stars[l];
+      const Vec3 target(t.x[l], t.y[l], t.z[l]), normal(t.nx[l], t.ny[l], t.nz[l]);
+      std::vector<Vec3> cur;
+      std::vector<double> ee;
+      const double limit = sodt::prepareGuard(st, normal, in.quality, cur, ee);
+      Vec3 y = st.center + (target - st.center) * 1.0;
+      if (in.roundToFloat) y = sodt::roundedTo<float>(y);
+      const bool decided = sodt::isFinite(y) && !(y == st.center);
+      int first = 0;
+      const bool pass = sodt::moveAllowed(st, y, cur, ee, in.quality, limit, &first);
+      const bool same = decided ? a == pass && r == !pass && (pass || v.first[l] == first) && sameBits(v.x[l], y[0]) &&
+                                      sameBits(v.y[l], y[1]) && sameBits(v.z[l], y[2])
+                                : !a && !r;
+      if (!same && ++mismatches <= 5)
+        ADD_FAILURE() << "trial " << trial << " lane " << l << ": kernel allowed " << a << " refused " << r
+                      << " first " << v.first[l] << ", scalar decided " << decided << " allowed " << pass
+                      << " first " << first;
+      if (!decided) ++undecided;
+      else if (pass) ++allowed;
+      else ++refused, laterFirst += first > 0;
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+  // Each verdict occurs often enough for the comparison to mean something,
+  // and refusals are not all on the first triangle.
+  EXPECT_GT(allowed, 10000);
+  EXPECT_GT(refused, 10000);
+  EXPECT_GT(undecided, 1000);
+  EXPECT_GT(laterFirst, 3000);
+}
+
 namespace {
 
 template <class M>
@@ -138,9 +260,10 @@ std::vector<long long> counters(const sodt::SodtStats& s) {
 /// Runs Algorithm 1 with and without the kernel and compares positions and
 /// faces bit for bit, and every counter.
 template <class M>
-void expectSameRuns(const std::string& name, sodt::Guard guard, bool flips, int threads, int iterations) {
+void expectSameRuns(const std::string& name, sodt::Guard guard, bool flips, int threads, int iterations,
+                    double maxDeviationRel = sodt::SodtParams().maxDeviationRel) {
   SCOPED_TRACE(name + ", guard " + sodt::toString(guard) + (flips ? ", flips" : "") + ", threads " +
-               std::to_string(threads));
+               std::to_string(threads) + ", deviation bound " + std::to_string(maxDeviationRel));
   M with, without;
   load(with, name);
   load(without, name);
@@ -149,6 +272,7 @@ void expectSameRuns(const std::string& name, sodt::Guard guard, bool flips, int 
   p.iterations = iterations;
   p.flips = flips;
   p.threads = threads;
+  p.maxDeviationRel = maxDeviationRel;
   const sodt::SodtStats a = sodt::SodtSmoother<M>::Apply(with, p);
   p.simd = false;
   const sodt::SodtStats b = sodt::SodtSmoother<M>::Apply(without, p);
@@ -248,4 +372,9 @@ TEST(Lanes, SweepsAreTheSameWithAndWithoutTheKernel) {
   expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Fold, false, 1, 10);
   expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Quality, true, 2, 6);
   expectSameRuns<sodt::MeshF>("plane_grid_open.ply", Guard::Quality, false, 1, 6);
+  // Without the deviation bound the kernel's accepted full steps are committed directly.
+  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::Fold, false, 1, 10, 0.0);
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Quality, false, 2, 10, 0.0);
+  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::Quality, false, 1, 10, 0.0);
+  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Fold, true, 2, 6, 0.0);
 }

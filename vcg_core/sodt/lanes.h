@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The Algorithm 1 target (tangent plane of Eq. 4, minimiser of Eq. 5) for
-// four vertices at once, one per AVX2 lane. Every lane performs the
-// operations of starNormal and solveStar (local_solve.h) in the same order,
-// with no fused multiply-add, so each lane's result is bit for bit the one
-// the scalar code gives. Builds without x86 GCC/Clang, or with SODT_NO_LANES
+// four vertices at once, one per AVX2 lane, and the move guard's test of
+// the full step to it. Every lane performs the operations of starNormal,
+// solveStar, prepareGuard and moveAllowed (local_solve.h) in the same
+// order, with no fused multiply-add, so each lane's result is bit for bit
+// the one the scalar code gives. Builds without x86 GCC/Clang, or with SODT_NO_LANES
 // defined, have no kernel and use the scalar code.
 #pragma once
 
@@ -36,6 +37,32 @@ struct Targets {
   int ok = 0;
 };
 
+/// What targets4 needs to test the full step of each lane under the move
+/// guard (see Targets::allowed).
+struct GuardInput {
+  /// x, y, z doubles per face: the input normals the fold test keeps every
+  /// triangle within 90 degrees of (Star::refNormal), or null for none.
+  const double* faceNormal = nullptr;
+  bool quality = false;       ///< the smallest-angle test as well as the fold test
+  bool roundToFloat = false;  ///< the mesh stores float coordinates
+};
+
+/// The full step's verdict, written by targets4 when given a GuardInput.
+/// The full step is the target rounded to what the mesh stores: y = c +
+/// (target - c), through float when GuardInput::roundToFloat. Its verdict
+/// is moveAllowed's for the star at y, with the references and limit of
+/// prepareGuard (local_solve.h), bit for bit.
+struct StepVerdict {
+  double x[4], y[4], z[4];  ///< y per lane
+  /// Bit l set: y is finite, differs from the centre, and moveAllowed accepts it.
+  int allowed = 0;
+  /// Bit l set: y is finite, differs from the centre, and moveAllowed refuses
+  /// it; first[l] is the first triangle that fails. Lanes with neither bit
+  /// set (failed solve, y not finite or equal to the centre) are undecided.
+  int refused = 0;
+  int first[4];
+};
+
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "positions must be packed x, y, z doubles");
 
 /// Output of faceKeys4.
@@ -58,11 +85,18 @@ inline bool available() {
 /// Writes the index table of a group for targets4: (n + 1) rows of kWidth
 /// entries, row 0 the lanes' centres, row k + 1 their k-th ring vertices
 /// (star l has centre centre[l] and ring ringIdx[begin[l] + k], k < n, in
-/// cyclic order), each index times 3, the offset of its x in pos.
-inline void packGroup(const int* centre, const int* ringIdx, const int* begin, int n, int* table) {
+/// cyclic order), each index times 3, the offset of its x in pos. When
+/// ringFace is not null, n more rows follow for the guard's full-step test
+/// (see StepVerdict): row n + 1 + k holds the lanes' k-th star triangles,
+/// ringFace[begin[l] + k] times 3, the offset of its x in
+/// GuardInput::faceNormal.
+inline void packGroup(const int* centre, const int* ringIdx, const int* begin, int n, int* table,
+                      const int* ringFace = nullptr) {
   for (int l = 0; l < kWidth; ++l) {
     table[l] = 3 * centre[l];
     for (int k = 0; k < n; ++k) table[kWidth * (k + 1) + l] = 3 * ringIdx[begin[l] + k];
+    if (ringFace)
+      for (int k = 0; k < n; ++k) table[kWidth * (n + 1 + k) + l] = 3 * ringFace[begin[l] + k];
   }
 }
 
@@ -119,21 +153,127 @@ struct Local {
 SODT_LANES_TARGET inline Local local(const V3& P, const V3& s, const V3& t, const V3& n) {
   return Local{dot(s, P), dot(t, P), dot(n, P), dot(P, P)};
 }
+SODT_LANES_TARGET inline V3 sub(const V3& a, const V3& b) { return V3{sub(a.x, b.x), sub(a.y, b.y), sub(a.z, b.z)}; }
+/// where ? b : a, lane by lane (where all-ones or all-zeros).
+SODT_LANES_TARGET inline __m256d pick(__m256d a, __m256d b, __m256d where) { return _mm256_blendv_pd(a, b, where); }
+/// std::max({a, b, c}) for values that are not NaN.
+SODT_LANES_TARGET inline __m256d max3(__m256d a, __m256d b, __m256d c) {
+  return _mm256_max_pd(_mm256_max_pd(a, b), c);
+}
+/// The squared cosine of the guard's angle tests: !(den > 0) ? 1 : dot <= 0 ?
+/// 0 : std::min(1.0, dot * dot / den).
+SODT_LANES_TARGET inline __m256d cos2(__m256d dot, __m256d den) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const __m256d q = _mm256_div_pd(mul(dot, dot), den);
+  const __m256d m = pick(one, q, _mm256_cmp_pd(q, one, _CMP_LT_OQ));  // std::min(1.0, q) is q < 1 ? q : 1
+  const __m256d r = pick(m, zero, _mm256_cmp_pd(dot, zero, _CMP_LE_OQ));
+  return pick(one, r, _mm256_cmp_pd(den, zero, _CMP_GT_OQ));
+}
+
+/// The full-step test of StepVerdict for a star of valence n: centre c, ring
+/// P (absolute) and X = P - c, the lanes' targets and tangent-plane normals,
+/// ok the lanes whose solve succeeded, faceRows the table's face rows.
+template <int n>
+SODT_LANES_TARGET inline void verdictN(const V3& c, const V3* P, const V3* X, const V3& target, const V3& nrm,
+                                       __m256d ok, const int* faceRows, const GuardInput& in, StepVerdict& out) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  constexpr double kCollapse = 1e-12;  // as prepareGuard and moveAllowed
+  const __m256d collapse = _mm256_set1_pd(kCollapse), collapse2 = _mm256_set1_pd(kCollapse * kCollapse);
+
+  // prepareGuard: fold references, ring edge lengths, the star's worst angle.
+  V3 cur[n];
+  __m256d ee[n];
+  __m256d worst = zero;
+  for (int k = 0; k < n; ++k) {
+    const int k1 = k + 1 < n ? k + 1 : 0;
+    const V3& u = X[k];
+    const V3& w = X[k1];
+    const V3 e = sub(P[k1], P[k]);
+    const __m256d uu = dot(u, u), ww = dot(w, w);
+    ee[k] = dot(e, e);
+    const V3 now = cross(u, w);
+    const __m256d big =
+        _mm256_cmp_pd(_mm256_sqrt_pd(dot(now, now)), mul(collapse, max3(uu, ww, ee[k])), _CMP_GT_OQ);
+    cur[k] = V3{pick(nrm.x, now.x, big), pick(nrm.y, now.y, big), pick(nrm.z, now.z, big)};
+    if (in.quality) {
+      const __m256d eu = dot(e, u), ew = dot(e, w), uw = dot(u, w);
+      const __m256d atCentre =
+          _mm256_and_pd(_mm256_cmp_pd(ee[k], uu, _CMP_LE_OQ), _mm256_cmp_pd(ee[k], ww, _CMP_LE_OQ));
+      const __m256d atA = _mm256_andnot_pd(atCentre, _mm256_cmp_pd(ww, uu, _CMP_LE_OQ));
+      const __m256d d = pick(pick(ew, _mm256_xor_pd(eu, _mm256_set1_pd(-0.0)), atA), uw, atCentre);
+      const __m256d den = pick(pick(mul(ww, ee[k]), mul(ee[k], uu), atA), mul(uu, ww), atCentre);
+      const __m256d c2 = cos2(d, den);
+      worst = pick(worst, c2, _mm256_cmp_pd(worst, c2, _CMP_LT_OQ));  // std::max(worst, c2)
+    }
+  }
+  const __m256d limit = in.quality ? worst : one;
+
+  // The full step, rounded as the mesh stores it.
+  V3 y{add(c.x, sub(target.x, c.x)), add(c.y, sub(target.y, c.y)), add(c.z, sub(target.z, c.z))};
+  if (in.roundToFloat)
+    y = V3{_mm256_cvtps_pd(_mm256_cvtpd_ps(y.x)), _mm256_cvtps_pd(_mm256_cvtpd_ps(y.y)),
+           _mm256_cvtps_pd(_mm256_cvtpd_ps(y.z))};
+  const __m256d sameYZ = _mm256_and_pd(_mm256_cmp_pd(y.y, c.y, _CMP_EQ_OQ), _mm256_cmp_pd(y.z, c.z, _CMP_EQ_OQ));
+  const __m256d same = _mm256_and_pd(_mm256_cmp_pd(y.x, c.x, _CMP_EQ_OQ), sameYZ);
+  const __m256d decided =
+      _mm256_andnot_pd(same, _mm256_and_pd(ok, _mm256_and_pd(finite(y.x), _mm256_and_pd(finite(y.y), finite(y.z)))));
+
+  // moveAllowed at y, every triangle (its answer does not depend on the order).
+  __m256d pass = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  __m256d first = _mm256_set1_pd(-1.0);
+  const __m128i* faceRow = reinterpret_cast<const __m128i*>(faceRows);
+  V3 u = sub(P[0], y);
+  __m256d uu = dot(u, u);
+  for (int k = 0; k < n; ++k) {
+    const V3 w = sub(P[k + 1 < n ? k + 1 : 0], y);
+    const __m256d ww = dot(w, w);
+    const V3 next = cross(u, w);
+    __m256d good = _mm256_cmp_pd(dot(next, cur[k]), zero, _CMP_GT_OQ);
+    if (in.faceNormal) {
+      const V3 r = gather(in.faceNormal, _mm_loadu_si128(faceRow + k));
+      good = _mm256_andnot_pd(_mm256_cmp_pd(dot(next, r), zero, _CMP_LT_OQ), good);
+    }
+    const __m256d l2 = max3(uu, ww, ee[k]);
+    good = _mm256_and_pd(good, _mm256_cmp_pd(dot(next, next), mul(mul(collapse2, l2), l2), _CMP_GT_OQ));
+    if (in.quality) {
+      // The smallest angle is opposite the shortest edge.
+      const __m256d uw = dot(u, w);
+      const __m256d atCentre =
+          _mm256_and_pd(_mm256_cmp_pd(ee[k], uu, _CMP_LE_OQ), _mm256_cmp_pd(ee[k], ww, _CMP_LE_OQ));
+      const __m256d atA = _mm256_andnot_pd(atCentre, _mm256_cmp_pd(ww, uu, _CMP_LE_OQ));
+      const __m256d d = pick(pick(sub(ww, uw), sub(uu, uw), atA), uw, atCentre);
+      const __m256d l1 = pick(pick(ww, uu, atA), uu, atCentre);
+      const __m256d l3 = pick(ee[k], ww, atCentre);
+      good = _mm256_andnot_pd(_mm256_cmp_pd(cos2(d, mul(l1, l3)), limit, _CMP_GT_OQ), good);
+    }
+    first = pick(first, _mm256_set1_pd(k), _mm256_andnot_pd(good, pass));
+    pass = _mm256_and_pd(pass, good);
+    u = w;
+    uu = ww;
+  }
+  _mm256_storeu_pd(out.x, y.x);
+  _mm256_storeu_pd(out.y, y.y);
+  _mm256_storeu_pd(out.z, y.z);
+  out.allowed = _mm256_movemask_pd(_mm256_and_pd(decided, pass));
+  out.refused = _mm256_movemask_pd(_mm256_andnot_pd(pass, decided));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(out.first), _mm256_cvtpd_epi32(first));
+}
 }  // namespace detail
 
 namespace detail {
 /// targets4 for valence n, known at compile time so that the loops unroll.
 template <int n>
-SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targets& out) {
+SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targets& out, const GuardInput* guard,
+                                       StepVerdict* verdict) {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
   const __m128i* row = reinterpret_cast<const __m128i*>(table);  // row r: kWidth ints
   const V3 c = gather(pos, _mm_loadu_si128(row));
 
   // The ring relative to the centre, and the area-weighted normal (starNormal).
-  V3 X[n];
+  V3 P[n], X[n];
   for (int k = 0; k < n; ++k) {
-    const V3 p = gather(pos, _mm_loadu_si128(row + k + 1));
-    X[k] = V3{sub(p.x, c.x), sub(p.y, c.y), sub(p.z, c.z)};
+    P[k] = gather(pos, _mm_loadu_si128(row + k + 1));
+    X[k] = sub(P[k], c);
   }
   V3 sum{zero, zero, zero};
   for (int k = 0; k < n; ++k) {
@@ -195,25 +335,29 @@ SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targ
   _mm256_storeu_pd(out.ny, nrm.y);
   _mm256_storeu_pd(out.nz, nrm.z);
   out.ok = _mm256_movemask_pd(ok);
+  if (guard) verdictN<n>(c, P, X, target, nrm, ok, table + kWidth * (n + 1), *guard, *verdict);
 }
 }  // namespace detail
 
 /// For four interior vertices with the same valence n (3 <= n <= kMaxValence),
 /// computes what solveStar(star) gives for each, and the normal starNormal(star). pos holds x, y, z per
-/// vertex; table is the group's index table (see packGroup).
-SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int n, Targets& out) {
+/// vertex; table is the group's index table (see packGroup). When guard is
+/// not null, also the full step's verdict (the table must have its face rows).
+SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int n, Targets& out,
+                                       const GuardInput* guard = nullptr, StepVerdict* verdict = nullptr) {
   using detail::targetsN;
+  if (verdict) verdict->allowed = verdict->refused = 0;
   switch (n) {
-    case 3: return targetsN<3>(pos, table, out);
-    case 4: return targetsN<4>(pos, table, out);
-    case 5: return targetsN<5>(pos, table, out);
-    case 6: return targetsN<6>(pos, table, out);
-    case 7: return targetsN<7>(pos, table, out);
-    case 8: return targetsN<8>(pos, table, out);
-    case 9: return targetsN<9>(pos, table, out);
-    case 10: return targetsN<10>(pos, table, out);
-    case 11: return targetsN<11>(pos, table, out);
-    case 12: return targetsN<12>(pos, table, out);
+    case 3: return targetsN<3>(pos, table, out, guard, verdict);
+    case 4: return targetsN<4>(pos, table, out, guard, verdict);
+    case 5: return targetsN<5>(pos, table, out, guard, verdict);
+    case 6: return targetsN<6>(pos, table, out, guard, verdict);
+    case 7: return targetsN<7>(pos, table, out, guard, verdict);
+    case 8: return targetsN<8>(pos, table, out, guard, verdict);
+    case 9: return targetsN<9>(pos, table, out, guard, verdict);
+    case 10: return targetsN<10>(pos, table, out, guard, verdict);
+    case 11: return targetsN<11>(pos, table, out, guard, verdict);
+    case 12: return targetsN<12>(pos, table, out, guard, verdict);
     default: out.ok = 0; return;
   }
 }
@@ -262,7 +406,11 @@ SODT_LANES_TARGET inline void faceKeys4(const double* pos, const int* tri, const
 #undef SODT_LANES_TARGET
 #else
 /// No kernel in this build: available() is false, so these are never called.
-inline void targets4(const double*, const int*, int, Targets& out) { out.ok = 0; }
+inline void targets4(const double*, const int*, int, Targets& out, const GuardInput* = nullptr,
+                     StepVerdict* verdict = nullptr) {
+  out.ok = 0;
+  if (verdict) verdict->allowed = verdict->refused = 0;
+}
 inline void faceKeys4(const double*, const int*, const double*, FaceKeys& out) { out.inverted = 0; }
 #endif
 

@@ -70,7 +70,9 @@ struct SodtParams {
   bool reuseDeviationMargins = true;
   /// Performance only: Algorithm 1 sweeps solve four vertices at once in
   /// AVX2 lanes when the processor has them (see lanes.h); the guards then
-  /// check each vertex's move as usual. The quality measured after each
+  /// check each vertex's move as usual, except that without the deviation
+  /// bound (maxDeviationRel 0) the lanes also test the full step under the
+  /// fold and angle guard and commit it when it passes. The quality measured after each
   /// sweep for keepBest and toleranceDeg takes four faces at once too. The
   /// results are the same bit for bit either way.
   bool simd = true;

@@ -26,6 +26,7 @@
 #include <limits>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #ifdef _OPENMP
@@ -254,7 +255,21 @@ struct SodtSmoother {
     // Algorithm 1: the 4-lane kernel when the processor has it.
     const bool useLanes = p.simd && p.algorithm == Algorithm::Basic &&
                           lanes::available() && nv < std::numeric_limits<int>::max() / 3;
-    LanePlan lanePlan = useLanes ? planLanes(plan, topo) : LanePlan();
+    // Without the deviation bound, the kernel also tests the full step under
+    // the fold and angle guard (when the mesh stores float or double
+    // coordinates, what representable() rounds to), and an accepted step is
+    // committed with no scalar work. With the bound, each accepted step
+    // needs the scalar star for the distance test anyway, and testing it in
+    // the kernel saved less than it cost.
+    const bool laneGuard = useLanes && p.guard != Guard::None && !deviationGuard &&
+                           (std::is_same<ScalarType, float>::value || std::is_same<ScalarType, double>::value);
+    lanes::GuardInput laneGuardInput;
+    if (laneGuard) {
+      laneGuardInput.faceNormal = faceNormal.empty() ? nullptr : &faceNormal[0][0];
+      laneGuardInput.quality = p.guard == Guard::Quality;
+      laneGuardInput.roundToFloat = std::is_same<ScalarType, float>::value;
+    }
+    LanePlan lanePlan = useLanes ? planLanes(plan, topo, laneGuard) : LanePlan();
     int phase = 0;  // colours swept so far, over all sweeps
 
     const auto sweepsStart = std::chrono::steady_clock::now();
@@ -280,7 +295,7 @@ struct SodtSmoother {
         };
         // Visits vertex i, with its proposal when one was computed already;
         // false when the visit was answered from the previous one.
-        const auto visitOne = [&](int i, Scratch& sc, const Proposal* given) {
+        const auto visitOne = [&](int i, Scratch& sc, const Proposal* given, FullStep full) {
           if (still(i)) {
             skip(i, sc);
             return false;
@@ -312,7 +327,7 @@ struct SodtSmoother {
             budget.next.slot = sc.nextSlot.data();
           }
           const Vec3 from = pos[i];
-          const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, budget, pos[i], given);
+          const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, budget, pos[i], given, full);
           sc.queried += budget.queried;
           sc.reused += budget.reused;
           record(i, o, sc);
@@ -335,11 +350,33 @@ struct SodtSmoother {
           const auto visitGroup = [&](int g, Scratch& sc) {
             const int* vs = lanePlan.vertex.data() + lanes::kWidth * g;
             lanes::Targets t;
-            lanes::targets4(&pos[0][0], lanePlan.table.data() + lanePlan.tableBegin[g], lanePlan.valence[g], t);
+            // The full-step test pays when most lanes will pass it: when
+            // most moved by their full step at their last visit.
+            int likely = 0;
+            if (laneGuard)
+              for (int l = 0; l < lanes::kWidth; ++l) likely += lastOutcome[vs[l]] == Outcome::Moved;
+            lanes::StepVerdict v;
+            lanes::targets4(&pos[0][0], lanePlan.table.data() + lanePlan.tableBegin[g], lanePlan.valence[g], t,
+                            likely >= kLikelyLanes ? &laneGuardInput : nullptr, &v);
             for (int l = 0; l < lanes::kWidth; ++l) {
               const int i = vs[l];
               const bool ok = (t.ok >> l & 1) != 0;
               if (p.guard != Guard::None) {
+                if (v.allowed >> l & 1) {
+                  // Nothing else to test (laneGuard: no deviation bound): the
+                  // visit moves the vertex by the full step. It cannot be one
+                  // still() would answer: that visit, on the same star, did
+                  // not move the vertex.
+                  pos[i] = Vec3(v.x[l], v.y[l], v.z[l]);
+                  record(i, Outcome::Moved, sc);
+                  ++sc.laneVisits;
+                  continue;
+                }
+                FullStep full;
+                if (v.refused >> l & 1) {
+                  full.refused = true;
+                  full.first = v.first[l];
+                }
                 // The guarded visit, with propose()'s result from the kernel.
                 Proposal pr;
                 if (ok) {
@@ -347,7 +384,7 @@ struct SodtSmoother {
                   pr.target = Vec3(t.x[l], t.y[l], t.z[l]);
                   pr.normal = Vec3(t.nx[l], t.ny[l], t.nz[l]);
                 }
-                sc.laneVisits += visitOne(i, sc, &pr);
+                sc.laneVisits += visitOne(i, sc, &pr, full);
                 continue;
               }
               if (still(i)) {
@@ -367,13 +404,13 @@ struct SodtSmoother {
 #pragma omp for schedule(static) nowait
               for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
 #pragma omp for schedule(static)
-              for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr);
+              for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr, FullStep());
             }
             continue;
           }
 #endif
           for (int g = 0; g < ng; ++g) visitGroup(g0 + g, scratch[0]);
-          for (int j = 0; j < nr; ++j) visitOne(rest[j], scratch[0], nullptr);
+          for (int j = 0; j < nr; ++j) visitOne(rest[j], scratch[0], nullptr, FullStep());
           continue;
         }
         const int* vs = plan.order.data() + plan.colourBegin[c];
@@ -381,11 +418,11 @@ struct SodtSmoother {
 #ifdef _OPENMP
         if (threads > 1 && n >= kMinParallelColour) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-          for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr);
+          for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr, FullStep());
           continue;
         }
 #endif
-        for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[0], nullptr);
+        for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[0], nullptr, FullStep());
       }
       ++stats.iterations;
       if (p.flips) {
@@ -399,7 +436,7 @@ struct SodtSmoother {
           stats.flips += flipped;
           topo = buildRingTopology(faces, deleted);
           plan = colourVertices(topo, active);
-          if (useLanes) lanePlan = planLanes(plan, topo);
+          if (useLanes) lanePlan = planLanes(plan, topo, laneGuard);
           for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
           for (Scratch& s : scratch) s.reserve(maxValence);
           std::fill(lastVisit.begin(), lastVisit.end(), -1);  // stars changed: visit everything again
@@ -567,6 +604,10 @@ struct SodtSmoother {
     }
   };
 
+  /// The kernel tests the full steps of a group of lanes when at least this
+  /// many of them moved by their full step at their last visit.
+  static constexpr int kLikelyLanes = 3;
+
   /// Colours with fewer vertices than this are swept by one thread: starting
   /// the others would cost more than it saves.
   static constexpr int kMinParallelColour = 512;
@@ -606,13 +647,20 @@ struct SodtSmoother {
     long long queried = 0, reused = 0;  ///< points checked each way
   };
 
+  /// What the lane kernel found of a visit's full step (lanes::StepVerdict).
+  struct FullStep {
+    bool refused = false;  ///< moveAllowed refuses it
+    int first = 0;         ///< then the first triangle that fails
+  };
+
   /// Tries the step from the centre towards target, shortened by halvings,
   /// under the guard. Returns the number of halvings used, -1 when every
   /// length was vetoed, -2 when the step rounds to no move at all. witness:
-  /// see moveAllowed, shared by the calls of one visit.
+  /// see moveAllowed, shared by the calls of one visit. fullRefused: the
+  /// full step is known to fail moveAllowed.
   static int tryStep(const Context& c, int i, const Star& star, int* hints, const std::vector<Vec3>& foldRef,
                      const std::vector<double>& ringEdge2, const Vec3& target, double minAngleCos2Before,
-                     int& pointHint, Budget& budget, int& witness, Vec3& x) {
+                     int& pointHint, Budget& budget, int& witness, Vec3& x, bool fullRefused = false) {
     const SodtParams& p = c.p;
     const Vec3 step = target - star.center;
     double f = 1.0;
@@ -620,6 +668,7 @@ struct SodtSmoother {
       const Vec3 y = representable(star.center + step * f);
       if (!isFinite(y)) continue;
       if (y == x) return j == 0 ? -2 : -1;  // shorter steps round to nothing as well
+      if (j == 0 && fullRefused) continue;
       if (!moveAllowed(star, y, foldRef, ringEdge2, p.guard == Guard::Quality, minAngleCos2Before, &witness))
         continue;
       if (c.input && !c.input->keeps(i, star, y, hints, pointHint, (y - star.center).Norm() + budget.eps, budget.drift,
@@ -635,8 +684,8 @@ struct SodtSmoother {
   /// on the same plane or line.
   struct Proposal {
     bool ok = false;
-    Vec3 target, fallback;
-    Vec3 normal;  ///< tangent-plane normal, for the fold test of degenerate faces
+    Vec3 target = Vec3(0, 0, 0), fallback = Vec3(0, 0, 0);
+    Vec3 normal = Vec3(0, 0, 0);  ///< tangent-plane normal, for the fold test of degenerate faces
     /// The fallback is the tangential Laplacian target in the plane of
     /// normal, computed only if needed (fallback is unset then).
     bool tangentialFallback = false;
@@ -751,11 +800,12 @@ struct SodtSmoother {
     std::vector<int> restBegin;   ///< per colour, into rest (colours + 1 entries)
   };
 
-  static LanePlan planLanes(const SweepPlan& plan, const RingTopology& topo) {
+  /// withFaces: the tables get the face rows of the full-step test.
+  static LanePlan planLanes(const SweepPlan& plan, const RingTopology& topo, bool withFaces) {
     LanePlan lp;
     const std::size_t colours = plan.colourBegin.size() - 1;
     lp.vertex.reserve(plan.order.size());
-    lp.table.reserve(plan.order.size() + topo.ringIdx.size());
+    lp.table.reserve(plan.order.size() + (withFaces ? 2 : 1) * topo.ringIdx.size());
     lp.rest.reserve(plan.order.size() / 8);
     lp.groupBegin.push_back(0);
     lp.restBegin.push_back(0);
@@ -772,8 +822,9 @@ struct SodtSmoother {
           int begin[lanes::kWidth];
           for (int l = 0; l < lanes::kWidth; ++l) begin[l] = topo.ringBegin[open[n][l]];
           lp.tableBegin.push_back(lp.table.size());
-          lp.table.resize(lp.table.size() + lanes::kWidth * (n + 1));
-          lanes::packGroup(open[n].data(), topo.ringIdx.data(), begin, n, lp.table.data() + lp.tableBegin.back());
+          lp.table.resize(lp.table.size() + lanes::kWidth * (withFaces ? 2 * n + 1 : n + 1));
+          lanes::packGroup(open[n].data(), topo.ringIdx.data(), begin, n, lp.table.data() + lp.tableBegin.back(),
+                           withFaces ? topo.ringFace.data() : nullptr);
           lp.vertex.insert(lp.vertex.end(), open[n].begin(), open[n].end());
           lp.valence.push_back(n);
           open[n].clear();
@@ -794,15 +845,15 @@ struct SodtSmoother {
   /// triangle, an input face for the deviation guard to try first (see
   /// InputSurface::keeps), or null.
   static Outcome visitVertex(const Context& c, int i, const Star& star, int* hints, int& pointHint, Scratch& sc,
-                             Budget& budget, Vec3& x, const Proposal* given = nullptr) {
+                             Budget& budget, Vec3& x, const Proposal* given = nullptr, FullStep full = FullStep()) {
     const Proposal pr = given ? *given : propose(c, i, star);
     if (!pr.ok) return Outcome::Failed;
     const SodtParams& p = c.p;
     if (p.guard == Guard::None) return commitUnguarded(pr.target, x);
     const double before = prepareGuard(star, pr.normal, p.guard == Guard::Quality, sc.foldRef, sc.ringEdge2);
-    int witness = 0;
-    const int r =
-        tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, budget, witness, x);
+    int witness = full.refused ? full.first : 0;
+    const int r = tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, budget, witness,
+                          x, full.refused);
     if (r == 0) return Outcome::Moved;
     if (r > 0) return Outcome::Backtracked;
     if (p.laplacianFallback) {
