@@ -181,3 +181,47 @@ TEST(DeviationGuard, FloatBelowIsALowerBound) {
   }
   EXPECT_TRUE(std::isnan(sodt::InputSurface::floatBelow(std::nan(""))));
 }
+
+/// The first sweep starts from the input, whose vertices, centroids and edge
+/// midpoints lie on the input: it checks them from the margin that leaves
+/// instead of querying. The result is the same as querying every point, on
+/// a mesh far from the origin too (where rounding eats into that margin).
+/// Against these coarse meshes' first steps the loose bounds leave the
+/// margin to answer most points, the tight ones leave the queries to decide.
+TEST(DeviationGuard, FirstSweepStartsFromTheInputMargin) {
+  struct Case {
+    const char* mesh;
+    double bound;
+    double offset;    ///< added to every coordinate
+    double minShare;  ///< of the checked points, answered from the margin
+  };
+  const Case cases[] = {{"blobs_mc.ply", 0.01, 0.0, 0.9},     {"sphere_jitter.ply", 0.005, 0.0, 0.3},
+                        {"blobs_mc.ply", 0.01, 3e3, 0.9},     {"blobs_mc.ply", 0.0002, 0.0, 0.001},
+                        {"cube_noisy.ply", 0.001, 0.0, 0.05}, {"cube_noisy.ply", 0.003, 0.0, 0.15},
+                        {"cube_jitter.ply", 0.003, 0.0, 0.03}};
+  for (const Case& c : cases) {
+    const std::string what = std::string(c.mesh) + " bound " + std::to_string(c.bound) + " offset " +
+                             std::to_string(c.offset);
+    sodt::MeshD input;
+    sodt::loadMesh(std::string(SODT_MESH_DIR) + "/" + c.mesh, input);
+    for (auto& v : input.vert) v.P() += vcg::Point3d(c.offset, -c.offset, c.offset);
+    sodt::MeshD with, without;
+    vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(with, input);
+    vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(without, input);
+    sodt::SodtParams p;
+    p.guard = sodt::Guard::Fold;
+    p.maxDeviationRel = c.bound;
+    p.iterations = 1;
+    const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshD>::Apply(with, p);
+    p.reuseDeviationMargins = false;
+    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshD>::Apply(without, p);
+    EXPECT_TRUE(sodt_test::positions(with) == sodt_test::positions(without)) << what;
+    EXPECT_EQ(a.moved, b.moved) << what;
+    EXPECT_EQ(a.backtracked, b.backtracked) << what;
+    EXPECT_EQ(a.rejected, b.rejected) << what;
+    EXPECT_EQ(a.deviationReused + a.deviationQueries, b.deviationQueries) << what;
+    EXPECT_GT(a.deviationReused, c.minShare * b.deviationQueries) << what;
+    std::printf("%s: first sweep, %lld of %lld checked points answered from margins\n", what.c_str(),
+                a.deviationReused, b.deviationQueries);
+  }
+}

@@ -28,12 +28,28 @@ struct InputSurface {
   /// other two, so that far faces are skipped without the exact distance.
   std::vector<float> reach;
 
-  /// Sets the bound and precomputes reach; faces, topo and pos must be set.
+  /// The margin of every checked point of the input itself (see Margins):
+  /// the vertices are corners of their own patches and the centroids and
+  /// edge midpoints of their star triangles lie on input faces, so their
+  /// distance to the input is the rounding of their coordinates at most.
+  /// Negative when that rounding is not small against the bound.
+  float inputMargin = -1;
+
+  /// Sets the bound and precomputes reach and inputMargin; faces, topo and
+  /// pos must be set.
   void prepare(double distanceLimit) {
     limit = distanceLimit;
     limit2 = limit * limit;
     reach.assign(faces->tri.size(), 0.f);
     const std::vector<Vec3>& P = *pos;
+    // A midpoint (a + b) * 0.5 and a centroid (a + b + c) / 3 computed in
+    // double are off the exact point by a few units in the last place of
+    // the largest coordinate per axis: 16 of them, on every axis, is ample.
+    double largest = 0;
+    for (const Vec3& q : P)
+      for (int j = 0; j < 3; ++j) largest = std::max(largest, std::abs(q[j]));
+    const double rounding = 16 * std::sqrt(3.0) * std::numeric_limits<double>::epsilon() * largest;
+    inputMargin = rounding < limit ? floatBelow(limit - rounding) : -1.f;
     for (std::size_t f = 0; f < faces->tri.size(); ++f) {
       if (!faces->live[f]) continue;
       const std::array<int, 3>& t = faces->tri[f];

@@ -243,8 +243,11 @@ struct SodtSmoother {
     // (rounded down).
     const std::size_t ringSlots = deviationGuard ? topo.ringIdx.size() : 0;
     std::vector<double> odo(deviationGuard ? nv : 0, 0.0);
-    std::vector<float> pointMargin(deviationGuard ? nv : 0, -1.f);
-    std::vector<float> slotMargin(ringSlots, -1.f), slotOdo(ringSlots, 0.f);
+    // The input's points are on the input: the first visits start from
+    // their margin, no query needed.
+    const float startMargin = deviationGuard && p.reuseDeviationMargins ? input.inputMargin : -1.f;
+    std::vector<float> pointMargin(deviationGuard ? nv : 0, startMargin);
+    std::vector<float> slotMargin(ringSlots, startMargin), slotOdo(ringSlots, 0.f);
     // Per ring slot, the input face the centroid of that star triangle was
     // last found near; at first, the face the triangle is in the input.
     std::vector<int> slotHint = deviationGuard ? topo.ringFace : std::vector<int>();
