@@ -204,7 +204,20 @@ TEST(Lanes, FullStepVerdictMatchesTheScalarGuardBitForBit) {
     sodt::lanes::packGroup(centre.data(), ringIdx.data(), begin.data(), n, table.data(), ringFace.data());
     sodt::lanes::Targets t;
     sodt::lanes::StepVerdict v;
-    sodt::lanes::targets4(&pos[0][0], table.data(), n, t, &in, &v);
+    sodt::lanes::Prepared prep;
+    sodt::lanes::targets4(&pos[0][0], table.data(), n, t, &in, &v, &prep);
+    {
+      // Without the verdict, the kernel prepares the same.
+      sodt::lanes::Targets t2;
+      sodt::lanes::Prepared prep2;
+      sodt::lanes::targets4(&pos[0][0], table.data(), n, t2, &in, nullptr, &prep2);
+      const std::size_t row = sizeof(double) * sodt::lanes::kWidth;
+      EXPECT_EQ(std::memcmp(prep.cx, prep2.cx, n * row) | std::memcmp(prep.cy, prep2.cy, n * row) |
+                    std::memcmp(prep.cz, prep2.cz, n * row) | std::memcmp(prep.ee, prep2.ee, n * row) |
+                    std::memcmp(prep.limit, prep2.limit, row),
+                0)
+          << "trial " << trial;
+    }
     for (int l = 0; l < sodt::lanes::kWidth; ++l) {
       const bool a = (v.allowed >> l & 1) != 0, r = (v.refused >> l & 1) != 0;
       if (!(t.ok >> l & 1)) {
@@ -217,6 +230,12 @@ TEST(Lanes, FullStepVerdictMatchesTheScalarGuardBitForBit) {
       std::vector<Vec3> cur;
       std::vector<double> ee;
       const double limit = sodt::prepareGuard(st, normal, in.quality, cur, ee);
+      // What the kernel prepared for the rest of the visit is prepareGuard's.
+      bool samePrepared = sameBits(prep.limit[l], limit);
+      for (int k = 0; k < n; ++k)
+        samePrepared = samePrepared && sameBits(prep.cx[k][l], cur[k][0]) && sameBits(prep.cy[k][l], cur[k][1]) &&
+                       sameBits(prep.cz[k][l], cur[k][2]) && sameBits(prep.ee[k][l], ee[k]);
+      if (!samePrepared && ++mismatches <= 5) ADD_FAILURE() << "trial " << trial << " lane " << l << ": prepared differs";
       Vec3 y = st.center + (target - st.center) * 1.0;
       if (in.roundToFloat) y = sodt::roundedTo<float>(y);
       const bool decided = sodt::isFinite(y) && !(y == st.center);

@@ -63,6 +63,16 @@ struct StepVerdict {
   int first[4];
 };
 
+/// What prepareGuard (local_solve.h) returns for each lane of a group, bit
+/// for bit, written by targets4 when asked: lane l's fold reference of star
+/// triangle k is (cx[k][l], cy[k][l], cz[k][l]), its squared ring edge
+/// ee[k][l], and the returned angle limit limit[l].
+struct Prepared {
+  double cx[kMaxValence][kWidth], cy[kMaxValence][kWidth], cz[kMaxValence][kWidth];
+  double ee[kMaxValence][kWidth];
+  double limit[kWidth];
+};
+
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "positions must be packed x, y, z doubles");
 
 /// Output of faceKeys4.
@@ -170,12 +180,15 @@ SODT_LANES_TARGET inline __m256d cos2(__m256d dot, __m256d den) {
   return pick(one, r, _mm256_cmp_pd(den, zero, _CMP_GT_OQ));
 }
 
-/// The full-step test of StepVerdict for a star of valence n: centre c, ring
-/// P (absolute) and X = P - c, the lanes' targets and tangent-plane normals,
-/// ok the lanes whose solve succeeded, faceRows the table's face rows.
+/// prepareGuard for a star of valence n (centre c, ring P, absolute, and X
+/// = P - c, tangent-plane normals nrm), written to prepared when not null,
+/// then, when out is not null, the full-step test of StepVerdict: the
+/// lanes' targets, ok the lanes whose solve succeeded, faceRows the table's
+/// face rows.
 template <int n>
-SODT_LANES_TARGET inline void verdictN(const V3& c, const V3* P, const V3* X, const V3& target, const V3& nrm,
-                                       __m256d ok, const int* faceRows, const GuardInput& in, StepVerdict& out) {
+SODT_LANES_TARGET inline void guardN(const V3& c, const V3* P, const V3* X, const V3& target, const V3& nrm,
+                                     __m256d ok, const int* faceRows, const GuardInput& in, StepVerdict* out,
+                                     Prepared* prepared) {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
   constexpr double kCollapse = 1e-12;  // as prepareGuard and moveAllowed
   const __m256d collapse = _mm256_set1_pd(kCollapse), collapse2 = _mm256_set1_pd(kCollapse * kCollapse);
@@ -207,6 +220,16 @@ SODT_LANES_TARGET inline void verdictN(const V3& c, const V3* P, const V3* X, co
     }
   }
   const __m256d limit = in.quality ? worst : one;
+  if (prepared) {
+    for (int k = 0; k < n; ++k) {
+      _mm256_storeu_pd(prepared->cx[k], cur[k].x);
+      _mm256_storeu_pd(prepared->cy[k], cur[k].y);
+      _mm256_storeu_pd(prepared->cz[k], cur[k].z);
+      _mm256_storeu_pd(prepared->ee[k], ee[k]);
+    }
+    _mm256_storeu_pd(prepared->limit, limit);
+  }
+  if (!out) return;
 
   // The full step, rounded as the mesh stores it.
   V3 y{add(c.x, sub(target.x, c.x)), add(c.y, sub(target.y, c.y)), add(c.z, sub(target.z, c.z))};
@@ -251,12 +274,12 @@ SODT_LANES_TARGET inline void verdictN(const V3& c, const V3* P, const V3* X, co
     u = w;
     uu = ww;
   }
-  _mm256_storeu_pd(out.x, y.x);
-  _mm256_storeu_pd(out.y, y.y);
-  _mm256_storeu_pd(out.z, y.z);
-  out.allowed = _mm256_movemask_pd(_mm256_and_pd(decided, pass));
-  out.refused = _mm256_movemask_pd(_mm256_andnot_pd(pass, decided));
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(out.first), _mm256_cvtpd_epi32(first));
+  _mm256_storeu_pd(out->x, y.x);
+  _mm256_storeu_pd(out->y, y.y);
+  _mm256_storeu_pd(out->z, y.z);
+  out->allowed = _mm256_movemask_pd(_mm256_and_pd(decided, pass));
+  out->refused = _mm256_movemask_pd(_mm256_andnot_pd(pass, decided));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(out->first), _mm256_cvtpd_epi32(first));
 }
 }  // namespace detail
 
@@ -264,7 +287,7 @@ namespace detail {
 /// targets4 for valence n, known at compile time so that the loops unroll.
 template <int n>
 SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targets& out, const GuardInput* guard,
-                                       StepVerdict* verdict) {
+                                       StepVerdict* verdict, Prepared* prepared) {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
   const __m128i* row = reinterpret_cast<const __m128i*>(table);  // row r: kWidth ints
   const V3 c = gather(pos, _mm_loadu_si128(row));
@@ -335,29 +358,33 @@ SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targ
   _mm256_storeu_pd(out.ny, nrm.y);
   _mm256_storeu_pd(out.nz, nrm.z);
   out.ok = _mm256_movemask_pd(ok);
-  if (guard) verdictN<n>(c, P, X, target, nrm, ok, table + kWidth * (n + 1), *guard, *verdict);
+  if (guard && (verdict || prepared))
+    guardN<n>(c, P, X, target, nrm, ok, table + kWidth * (n + 1), *guard, verdict, prepared);
 }
 }  // namespace detail
 
 /// For four interior vertices with the same valence n (3 <= n <= kMaxValence),
 /// computes what solveStar(star) gives for each, and the normal starNormal(star). pos holds x, y, z per
 /// vertex; table is the group's index table (see packGroup). When guard is
-/// not null, also the full step's verdict (the table must have its face rows).
+/// not null, also what prepareGuard gives each lane with that normal (when
+/// prepared is not null), and the full step's verdict (when verdict is not
+/// null; the table must have its face rows).
 SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int n, Targets& out,
-                                       const GuardInput* guard = nullptr, StepVerdict* verdict = nullptr) {
+                                       const GuardInput* guard = nullptr, StepVerdict* verdict = nullptr,
+                                       Prepared* prepared = nullptr) {
   using detail::targetsN;
   if (verdict) verdict->allowed = verdict->refused = 0;
   switch (n) {
-    case 3: return targetsN<3>(pos, table, out, guard, verdict);
-    case 4: return targetsN<4>(pos, table, out, guard, verdict);
-    case 5: return targetsN<5>(pos, table, out, guard, verdict);
-    case 6: return targetsN<6>(pos, table, out, guard, verdict);
-    case 7: return targetsN<7>(pos, table, out, guard, verdict);
-    case 8: return targetsN<8>(pos, table, out, guard, verdict);
-    case 9: return targetsN<9>(pos, table, out, guard, verdict);
-    case 10: return targetsN<10>(pos, table, out, guard, verdict);
-    case 11: return targetsN<11>(pos, table, out, guard, verdict);
-    case 12: return targetsN<12>(pos, table, out, guard, verdict);
+    case 3: return targetsN<3>(pos, table, out, guard, verdict, prepared);
+    case 4: return targetsN<4>(pos, table, out, guard, verdict, prepared);
+    case 5: return targetsN<5>(pos, table, out, guard, verdict, prepared);
+    case 6: return targetsN<6>(pos, table, out, guard, verdict, prepared);
+    case 7: return targetsN<7>(pos, table, out, guard, verdict, prepared);
+    case 8: return targetsN<8>(pos, table, out, guard, verdict, prepared);
+    case 9: return targetsN<9>(pos, table, out, guard, verdict, prepared);
+    case 10: return targetsN<10>(pos, table, out, guard, verdict, prepared);
+    case 11: return targetsN<11>(pos, table, out, guard, verdict, prepared);
+    case 12: return targetsN<12>(pos, table, out, guard, verdict, prepared);
     default: out.ok = 0; return;
   }
 }
@@ -407,7 +434,7 @@ SODT_LANES_TARGET inline void faceKeys4(const double* pos, const int* tri, const
 #else
 /// No kernel in this build: available() is false, so these are never called.
 inline void targets4(const double*, const int*, int, Targets& out, const GuardInput* = nullptr,
-                     StepVerdict* verdict = nullptr) {
+                     StepVerdict* verdict = nullptr, Prepared* = nullptr) {
   out.ok = 0;
   if (verdict) verdict->allowed = verdict->refused = 0;
 }

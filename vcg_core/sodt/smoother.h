@@ -266,8 +266,11 @@ struct SodtSmoother {
     // the kernel saved less than it cost.
     const bool laneGuard = useLanes && p.guard != Guard::None && !deviationGuard &&
                            (std::is_same<ScalarType, float>::value || std::is_same<ScalarType, double>::value);
+    // Guarded visits of the kernel's vertices take what prepareGuard
+    // computes from the kernel too, which has the star in its lanes already.
+    const bool lanePrepare = useLanes && p.guard != Guard::None;
     lanes::GuardInput laneGuardInput;
-    if (laneGuard) {
+    if (lanePrepare) {
       laneGuardInput.faceNormal = faceNormal.empty() ? nullptr : &faceNormal[0][0];
       laneGuardInput.quality = p.guard == Guard::Quality;
       laneGuardInput.roundToFloat = std::is_same<ScalarType, float>::value;
@@ -360,7 +363,9 @@ struct SodtSmoother {
               for (int l = 0; l < lanes::kWidth; ++l) likely += lastOutcome[vs[l]] == Outcome::Moved;
             lanes::StepVerdict v;
             lanes::targets4(&pos[0][0], lanePlan.table.data() + lanePlan.tableBegin[g], lanePlan.valence[g], t,
-                            likely >= kLikelyLanes ? &laneGuardInput : nullptr, &v);
+                            lanePrepare ? &laneGuardInput : nullptr, likely >= kLikelyLanes ? &v : nullptr,
+                            lanePrepare ? &sc.prepared : nullptr);
+            if (likely < kLikelyLanes) v.allowed = v.refused = 0;
             for (int l = 0; l < lanes::kWidth; ++l) {
               const int i = vs[l];
               const bool ok = (t.ok >> l & 1) != 0;
@@ -376,6 +381,8 @@ struct SodtSmoother {
                   continue;
                 }
                 FullStep full;
+                full.prepared = &sc.prepared;
+                full.lane = l;
                 if (v.refused >> l & 1) {
                   full.refused = true;
                   full.first = v.first[l];
@@ -595,6 +602,7 @@ struct SodtSmoother {
     long long laneVisits = 0;
     std::vector<double> drift;  ///< see Budget
     std::vector<float> nextSlot;
+    lanes::Prepared prepared;  ///< of the lane group being visited
     /// Sized up front so that no visit allocates (allocation inside a
     /// parallel region could not report failure).
     void reserve(int valence) {
@@ -650,10 +658,14 @@ struct SodtSmoother {
     long long queried = 0, reused = 0;  ///< points checked each way
   };
 
-  /// What the lane kernel found of a visit's full step (lanes::StepVerdict).
+  /// What the lane kernel found of a visit (lanes::StepVerdict,
+  /// lanes::Prepared).
   struct FullStep {
-    bool refused = false;  ///< moveAllowed refuses it
+    bool refused = false;  ///< moveAllowed refuses the full step
     int first = 0;         ///< then the first triangle that fails
+    /// When not null, prepareGuard's results are lane `lane` of this.
+    const lanes::Prepared* prepared = nullptr;
+    int lane = 0;
   };
 
   /// Tries the step from the centre towards target, shortened by halvings,
@@ -853,7 +865,20 @@ struct SodtSmoother {
     if (!pr.ok) return Outcome::Failed;
     const SodtParams& p = c.p;
     if (p.guard == Guard::None) return commitUnguarded(pr.target, x);
-    const double before = prepareGuard(star, pr.normal, p.guard == Guard::Quality, sc.foldRef, sc.ringEdge2);
+    double before;
+    if (full.prepared) {
+      const lanes::Prepared& pg = *full.prepared;
+      const int l = full.lane, n = static_cast<int>(star.size());
+      sc.foldRef.resize(n);
+      sc.ringEdge2.resize(n);
+      for (int k = 0; k < n; ++k) {
+        sc.foldRef[k] = Vec3(pg.cx[k][l], pg.cy[k][l], pg.cz[k][l]);
+        sc.ringEdge2[k] = pg.ee[k][l];
+      }
+      before = pg.limit[l];
+    } else {
+      before = prepareGuard(star, pr.normal, p.guard == Guard::Quality, sc.foldRef, sc.ringEdge2);
+    }
     int witness = full.refused ? full.first : 0;
     const int r = tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, budget, witness,
                           x, full.refused);
