@@ -289,3 +289,83 @@ TEST(Metrics, SurfaceDistanceInPlaceEqualsCopying) {
   EXPECT_TRUE(std::isnan(inPlace.meanRel));
   EXPECT_TRUE(sameBits(inPlace.maxRel, copying.maxRel));
 }
+
+namespace {
+
+/// Records the points a surface sampler is given, in order.
+struct PointRecorder {
+  std::vector<vcg::Point3d> points;
+  template <class VertexType>
+  void AddVert(const VertexType& v) {
+    points.push_back(v.cP());
+  }
+  template <class FaceType>
+  void AddFace(const FaceType& f, const vcg::Point3d& interp) {
+    points.push_back(f.cP(0) * interp[0] + f.cP(1) * interp[1] + f.cP(2) * interp[2]);
+  }
+};
+
+}  // namespace
+
+/// The area-uniform samples of the distance measure are vcglib's Montecarlo
+/// samples, the same points in the same order from the same random numbers,
+/// on faces of very different areas, zero-area and deleted ones included.
+TEST(Metrics, MontecarloSamplesAreVcglibs) {
+  Mesh m;
+  sodt_test::makeSphere(m, 4);
+  sodt_test::jitterOnSphere(m, 0.2, 3);
+  for (std::size_t i = 0; i < m.vert.size(); i += 7) m.vert[i].P() *= 1.5;  // uneven areas
+  for (std::size_t f = 0; f < m.face.size(); f += 97) m.face[f].V(1) = m.face[f].V(0);  // zero area
+  for (std::size_t f = 5; f < m.face.size(); f += 101) vcg::tri::Allocator<Mesh>::DeleteFace(m, m.face[f]);
+  using SS = vcg::tri::SurfaceSampling<Mesh, PointRecorder>;
+  for (int n : {1, 1000, 50000}) {
+    PointRecorder vcgSamples, ours;
+    SS::SamplingRandomGenerator().initialize(20130101u);
+    SS::Montecarlo(m, vcgSamples, n);
+    SS::SamplingRandomGenerator().initialize(20130101u);
+    sodt::detail::montecarloSamples(m, ours, n);
+    ASSERT_EQ(ours.points.size(), vcgSamples.points.size()) << n;
+    int differ = 0;
+    for (std::size_t i = 0; i < ours.points.size(); ++i)
+      differ += std::memcmp(&ours.points[i], &vcgSamples.points[i], sizeof(vcg::Point3d)) != 0;
+    EXPECT_EQ(differ, 0) << n;
+    // And the generator is left where vcglib leaves it.
+    const unsigned after = SS::SamplingRandomGenerator().generate(1u << 30);
+    SS::SamplingRandomGenerator().initialize(20130101u);
+    SS::Montecarlo(m, vcgSamples, n);
+    EXPECT_EQ(after, SS::SamplingRandomGenerator().generate(1u << 30)) << n;
+  }
+}
+
+/// The distance measure's shortcuts (curve order, faces passed over by
+/// their bounding box) leave every distance as vcglib computes it, on a mesh
+/// far from the origin too, where vcglib's point-face distance rounds at
+/// the scale of the coordinates rather than of the distances.
+TEST(Metrics, DistanceSamplerMatchesVcgFarFromTheOrigin) {
+  for (double offset : {0.0, 1e4, -3e6}) {
+    Mesh a, b;
+    sodt_test::makeSphere(a, 4);
+    vcg::tri::Append<Mesh, Mesh>::MeshCopy(b, a);
+    sodt_test::jitterOnSphere(b, 0.05, 5);
+    for (auto& v : b.vert) v.P() *= 1.0 + 1e-6;  // distances far below the coordinates' rounding at 3e6
+    for (Mesh* m : {&a, &b})
+      for (auto& v : m->vert) v.P() += vcg::Point3d(offset, 0.5 * offset, -offset);
+    vcg::tri::UpdateBounding<Mesh>::Box(a);
+    vcg::tri::UpdateBounding<Mesh>::Box(b);
+    Mesh A, B;
+    sodt::detail::copyToDouble(a, A);
+    sodt::detail::copyToDouble(b, B);
+    const double bound = 10.0 + std::abs(offset);
+    const auto expected = vcgOneSided(A, B, bound);
+    for (int threads : {1, 2}) {
+      Mesh a2, b2;
+      sodt::detail::copyToDouble(a, a2);
+      sodt::detail::copyToDouble(b, b2);
+      vcg::tri::UpdateBounding<Mesh>::Box(a2);
+      vcg::tri::UpdateBounding<Mesh>::Box(b2);
+      const auto got = sodt::detail::oneSidedDistance(a2, b2, bound, threads);
+      EXPECT_TRUE(sameBits(got.first, expected.first)) << got.first << " vs " << expected.first << ", offset " << offset;
+      EXPECT_TRUE(sameBits(got.second, expected.second)) << got.second << " vs " << expected.second << ", offset " << offset;
+    }
+  }
+}

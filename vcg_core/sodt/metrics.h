@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -158,6 +159,14 @@ void pointsOnly(const MeshType& m, SampleMesh& out) {
 /// the same results bit for bit. Unlike HausdorffSampler it takes samples of
 /// any mesh type, needs no normals and leaves the sampled vertices' quality
 /// alone (HausdorffSampler stores each vertex's distance there).
+///
+/// Two things make it faster than HausdorffSampler without changing a
+/// distance: the samples are looked up in the order of a space-filling curve
+/// (random surface points in sampling order touch a new part of the mesh
+/// each time; in curve order, consecutive lookups share their cells and
+/// faces in the cache), and a face whose bounding box is farther than the
+/// closest distance found so far is passed over without vcglib's
+/// point-face distance, which could not come out smaller.
 template <class To>
 class DistanceSampler {
  public:
@@ -178,6 +187,15 @@ class DistanceSampler {
       setGrid(vertexGrid_, to.vert.begin(), to.vert.end(), to.vn, cover);
     else
       setGrid(faceGrid_, to.face.begin(), to.face.end(), to.fn, cover);
+    // vcglib's point-face distance rounds at the scale of the coordinates,
+    // not of the distance: the bounding-box test leaves that much room.
+    ScalarType largest = 0;
+    for (const auto& v : to.vert)
+      if (!v.IsD())
+        for (int j = 0; j < 3; ++j) largest = std::max(largest, std::abs(v.cP()[j]));
+    if (!cover.IsNull())
+      for (int j = 0; j < 3; ++j) largest = std::max({largest, std::abs(cover.min[j]), std::abs(cover.max[j])});
+    faceDistance_.slack = ScalarType(1e-12) * largest;
   }
 
   /// HausdorffSampler::AddVert without the normal and the quality.
@@ -199,9 +217,10 @@ class DistanceSampler {
   void measure(int threads) {
     const long long n = static_cast<long long>(points_.size());
     std::vector<ScalarType> dist(points_.size());
+    const std::vector<int> order = curveOrder();
     threads = std::max(1, std::min(threads, 1024));
     if (to_.fn == 0 || threads == 1 || n < 4096) {
-      for (long long i = 0; i < n; ++i) dist[i] = closest(points_[i], marker_);
+      for (long long j = 0; j < n; ++j) dist[order[j]] = closest(points_[order[j]], marker_);
     } else {
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
@@ -211,7 +230,7 @@ class DistanceSampler {
 #ifdef _OPENMP
 #pragma omp for schedule(dynamic, 1024)
 #endif
-        for (long long i = 0; i < n; ++i) dist[i] = closest(points_[i], none);
+        for (long long j = 0; j < n; ++j) dist[order[j]] = closest(points_[order[j]], none);
       }
     }
     for (const ScalarType d : dist) {
@@ -241,11 +260,64 @@ class DistanceSampler {
     if (to_.fn == 0) {
       vcg::tri::GetClosestVertex<To, VertexGrid>(to_, vertexGrid_, p, upperBound_, dist);
     } else {
-      vcg::face::PointDistanceBaseFunctor<ScalarType> pointFaceDistance;
       CoordType closestPoint;
-      faceGrid_.GetClosest(pointFaceDistance, marker, p, upperBound_, dist, closestPoint);
+      faceGrid_.GetClosest(faceDistance_, marker, p, upperBound_, dist, closestPoint);
     }
     return dist;
+  }
+
+  /// vcglib's PointDistanceBaseFunctor, after a test that passes over a
+  /// face whose bounding box is farther from the point than the distance to
+  /// beat by more than the distance's rounding (slack): the face's own
+  /// distance cannot beat it then, and it is left as it was.
+  struct PrunedFaceDistance {
+    using QueryType = CoordType;
+    static const CoordType& Pos(const QueryType& q) { return q; }
+    ScalarType slack = 0;
+    template <class FaceType>
+    bool operator()(const FaceType& f, const CoordType& p, ScalarType& minDist, CoordType& closest) const {
+      ScalarType d2 = 0;
+      for (int j = 0; j < 3; ++j) {
+        const ScalarType a = f.cP(0)[j], b = f.cP(1)[j], c = f.cP(2)[j];
+        const ScalarType lo = std::min(a, std::min(b, c)), hi = std::max(a, std::max(b, c));
+        const ScalarType e = p[j] < lo ? lo - p[j] : p[j] > hi ? p[j] - hi : ScalarType(0);
+        d2 += e * e;
+      }
+      const ScalarType reach = minDist * ScalarType(1 + 1e-9) + slack;
+      if (d2 > reach * reach) return false;
+      vcg::face::PointDistanceBaseFunctor<ScalarType> exact;
+      return exact(f, p, minDist, closest);
+    }
+  };
+
+  /// The samples' order along a Morton (Z-order) curve over the grid's box,
+  /// 21 bits per axis.
+  std::vector<int> curveOrder() const {
+    const vcg::Box3<ScalarType>& box = to_.fn == 0 ? vertexGrid_.bbox : faceGrid_.bbox;
+    std::vector<std::pair<std::uint64_t, int>> keyed(points_.size());
+    const double cells = double((1u << 21) - 1);
+    for (std::size_t i = 0; i < points_.size(); ++i) {
+      std::uint64_t key = 0;
+      for (int j = 0; j < 3; ++j) {
+        const double extent = double(box.max[j]) - double(box.min[j]);
+        double t = extent > 0 ? (double(points_[i][j]) - double(box.min[j])) / extent : 0.0;
+        t = t > 0 ? (t < 1 ? t : 1.0) : 0.0;  // NaN goes to 0 too
+        std::uint64_t q = static_cast<std::uint64_t>(t * cells);
+        // Spread q's 21 bits three apart.
+        q &= 0x1fffff;
+        q = (q | q << 32) & 0x1f00000000ffffull;
+        q = (q | q << 16) & 0x1f0000ff0000ffull;
+        q = (q | q << 8) & 0x100f00f00f00f00full;
+        q = (q | q << 4) & 0x10c30c30c30c30c3ull;
+        q = (q | q << 2) & 0x1249249249249249ull;
+        key |= q << j;
+      }
+      keyed[i] = {key, static_cast<int>(i)};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<int> order(points_.size());
+    for (std::size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+    return order;
   }
 
   /// Grid over the live elements [begin, end), as vcglib lays it, or over
@@ -278,12 +350,51 @@ class DistanceSampler {
   FaceGrid faceGrid_;
   VertexGrid vertexGrid_;
   vcg::tri::FaceTmark<To> marker_;
+  PrunedFaceDistance faceDistance_;
   ScalarType upperBound_;
   std::vector<CoordType> points_;  ///< taken, not looked up yet
   double maxDist_ = 0;
   double sumDist_ = 0;
   int samples_ = 0;
 };
+
+/// What vcglib's SurfaceSampling<From, Sampler>::Montecarlo(m, ps, n) gives
+/// ps: the same area-uniform samples in the same order, from the same
+/// random numbers of SurfaceSampling<From, Sampler>'s generator. vcglib
+/// finds each sample's face by a binary search over the cumulative face
+/// areas, a cache miss per step on a large mesh; here the samples are
+/// drawn first and their faces found in one pass in increasing order.
+template <class From, class Sampler>
+void montecarloSamples(From& m, Sampler& ps, int sampleNum) {
+  using SS = vcg::tri::SurfaceSampling<From, Sampler>;
+  using ScalarType = typename From::ScalarType;
+  std::vector<ScalarType> cumulative(1, ScalarType(0));  // vcglib's intervals
+  std::vector<typename From::FacePointer> face(1, nullptr);
+  cumulative.reserve(m.fn + 1);
+  face.reserve(m.fn + 1);
+  for (auto fi = m.face.begin(); fi != m.face.end(); ++fi)
+    if (!fi->IsD()) {
+      cumulative.push_back(cumulative.back() + 0.5 * vcg::DoubleArea(*fi));
+      face.push_back(&*fi);
+    }
+  const ScalarType meshArea = cumulative.back();
+  const std::size_t n = static_cast<std::size_t>(std::max(0, sampleNum));
+  std::vector<std::pair<ScalarType, int>> value(n);
+  std::vector<typename From::CoordType> barycentric(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    value[i] = {meshArea * SS::RandomDouble01(), static_cast<int>(i)};
+    barycentric[i] = SS::RandomBarycentric();
+  }
+  // vcglib's lower_bound: the first interval end not below the value.
+  std::vector<int> hit(n);
+  std::sort(value.begin(), value.end());
+  std::size_t k = 1;  // (a value of 0 would give vcglib the empty interval before the first face)
+  for (const auto& v : value) {
+    while (k + 1 < cumulative.size() && cumulative[k] < v.first) ++k;
+    hit[v.second] = static_cast<int>(k);
+  }
+  for (std::size_t i = 0; i < n; ++i) ps.AddFace(*face[hit[i]], barycentric[i]);
+}
 
 /// One-sided distances from samples of `from` (all vertices plus area-uniform
 /// random points with a fixed seed) to the surface of `to`. Both are double
@@ -303,7 +414,7 @@ std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound
   else
     SS::VertexUniform(from, hs, kMaxVertexSamples);
   const int faceSamples = std::min(kMaxFaceSamples, std::max(10000, 2 * from.fn));
-  if (from.fn > 0 && totalArea(from) > 0) SS::Montecarlo(from, hs, faceSamples);  // no area: nothing to sample
+  if (from.fn > 0 && totalArea(from) > 0) montecarloSamples(from, hs, faceSamples);  // no area: nothing to sample
   hs.measure(threads);
   if (hs.samples() == 0) return {std::numeric_limits<double>::infinity(), 0.0};
   return {double(hs.maxDist()), double(hs.meanDist())};
