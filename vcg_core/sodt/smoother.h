@@ -277,6 +277,11 @@ struct SodtSmoother {
     }
     LanePlan lanePlan = useLanes ? planLanes(plan, topo, laneGuard) : LanePlan();
     int phase = 0;  // colours swept so far, over all sweeps
+    // A guarded visit costs from one test to a dozen (a rejected one tries
+    // every step length twice), and a thread can be held up: the threads
+    // take guarded work in small chunks as they get to it. Unguarded visits
+    // cost about the same and little, so they are split in equal halves.
+    const bool dynamicSchedule = p.guard != Guard::None || p.algorithm == Algorithm::Odt;
 
     const auto sweepsStart = std::chrono::steady_clock::now();
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
@@ -411,10 +416,17 @@ struct SodtSmoother {
 #pragma omp parallel num_threads(threads)
             {
               Scratch& sc = scratch[omp_get_thread_num()];
+              if (dynamicSchedule) {
+#pragma omp for schedule(dynamic, 16) nowait
+                for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
+#pragma omp for schedule(dynamic, 32)
+                for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr, FullStep());
+              } else {
 #pragma omp for schedule(static) nowait
-              for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
+                for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
 #pragma omp for schedule(static)
-              for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr, FullStep());
+                for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr, FullStep());
+              }
             }
             continue;
           }
@@ -427,8 +439,13 @@ struct SodtSmoother {
         const int n = plan.colourBegin[c + 1] - plan.colourBegin[c];
 #ifdef _OPENMP
         if (threads > 1 && n >= kMinParallelColour) {
+          if (dynamicSchedule) {
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 32)
+            for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr, FullStep());
+          } else {
 #pragma omp parallel for num_threads(threads) schedule(static)
-          for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr, FullStep());
+            for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr, FullStep());
+          }
           continue;
         }
 #endif
