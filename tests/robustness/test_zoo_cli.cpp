@@ -258,6 +258,19 @@ std::vector<BadFile> badFiles() {
       {"truncated_ascii_half.ply", [half] { return half(validFile(E::Ascii)); }, "PLY parse error"},
       {"truncated_off_half.off", [half] { return half(validFile(E::Ascii, true)); }, "unexpected end of file"},
       {"truncated_in_header.ply", [] { return validFile(E::BinaryLE).substr(0, 60); }, "PLY parse error"},
+      {"truncated_binary_in_vertices.ply",
+       [] {
+         const std::string v = validFile(E::BinaryLE);
+         // Past the check of one byte per value, short of the vertex block.
+         return v.substr(0, v.find("end_header\n") + 11 + 1000);
+       },
+       "the data ends inside element 'vertex'"},
+      {"truncated_binary_in_faces.ply",
+       [] {
+         const std::string v = validFile(E::BinaryLE);
+         return v.substr(0, v.size() - 5);  // the last face loses its last index and a byte
+       },
+       "the data ends inside element 'face'"},
       {"header_only.ply", [] { return plyHeader("ascii", "4", "4"); }, "PLY parse error"},
       {"more_vertices_than_present_ascii.ply", [] { return asciiTet("1000"); }, "more than the file can hold"},
       {"more_vertices_than_present_binary.ply",

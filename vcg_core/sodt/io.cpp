@@ -9,6 +9,7 @@
 #include <wrap/io_trimesh/export_ply.h>
 #include <wrap/io_trimesh/import_ply.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
@@ -481,8 +482,11 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       }
       return true;
     }
-    in.seekg(values * size, std::ios::cur);
-    return !in.fail();
+    // Read past, not seek: a seek on a file stream is a system call, and
+    // the walk skips every vertex coordinate.
+    const std::streamsize bytes = static_cast<std::streamsize>(values * size);
+    in.ignore(bytes);
+    return in.gcount() == bytes;
   };
   // Element counts the file cannot hold (each needs at least a byte per
   // property): refuse them before walking, so a huge count costs nothing.
@@ -497,9 +501,20 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
              "' elements, more than the file can hold");
     }
   }
+  const long long size = fileSize(file);
   for (const Elem& e : elems) {
     const bool isFace = e.name == "face";
     if (e.props.empty()) continue;
+    if (!ascii && std::none_of(e.props.begin(), e.props.end(), [](const Prop& pr) { return pr.list; })) {
+      // Fixed-size rows: nothing in them to check, one jump over all of them.
+      long long row = 0;
+      for (const Prop& pr : e.props) row += pr.valueSize;
+      const long long at = static_cast<long long>(in.tellg());
+      if (at < 0 || e.count > (size - at) / std::max(1LL, row)) truncated(e);
+      in.seekg(static_cast<std::streamoff>(e.count * row), std::ios::cur);
+      if (in.fail()) truncated(e);
+      continue;
+    }
     for (long long i = 0; i < e.count; ++i)
       for (const Prop& pr : e.props) {
         if (!pr.list) {
