@@ -146,15 +146,21 @@ SODT_LANES_TARGET inline __m256d absv(__m256d a) { return _mm256_andnot_pd(_mm25
 SODT_LANES_TARGET inline __m256d finite(__m256d a) {
   return _mm256_cmp_pd(absv(a), _mm256_set1_pd(std::numeric_limits<double>::infinity()), _CMP_LT_OQ);
 }
-/// Loads the four vertices whose indices times 3 are idx3.
-/// (The masked form with a zero source: GCC 12 warns that the plain form's
-/// undefined source is used uninitialised.)
-SODT_LANES_TARGET inline __m256d gather1(const double* base, __m128i idx3) {
-  const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-  return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, idx3, all, 8);
+/// The points (x, y, z doubles) at p0..p3, one per lane: three-wide masked
+/// loads (none reads past a point) and a transpose. Cheaper than three
+/// gathers on the processors measured (bench/README.md).
+SODT_LANES_TARGET inline V3 load4(const double* p0, const double* p1, const double* p2, const double* p3) {
+  const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);
+  const __m256d a = _mm256_maskload_pd(p0, xyz), b = _mm256_maskload_pd(p1, xyz);
+  const __m256d c = _mm256_maskload_pd(p2, xyz), d = _mm256_maskload_pd(p3, xyz);
+  const __m256d x01z01 = _mm256_unpacklo_pd(a, b), y01 = _mm256_unpackhi_pd(a, b);
+  const __m256d x23z23 = _mm256_unpacklo_pd(c, d), y23 = _mm256_unpackhi_pd(c, d);
+  return V3{_mm256_permute2f128_pd(x01z01, x23z23, 0x20), _mm256_permute2f128_pd(y01, y23, 0x20),
+            _mm256_permute2f128_pd(x01z01, x23z23, 0x31)};
 }
-SODT_LANES_TARGET inline V3 gather(const double* pos, __m128i idx3) {
-  return V3{gather1(pos, idx3), gather1(pos + 1, idx3), gather1(pos + 2, idx3)};
+/// The four points base + idx3[l] (idx3: indices times 3), one per lane.
+SODT_LANES_TARGET inline V3 gather(const double* base, const int* idx3) {
+  return load4(base + idx3[0], base + idx3[1], base + idx3[2], base + idx3[3]);
 }
 /// A ring vertex P in the frame (s, t, n), and |P|^2.
 struct Local {
@@ -244,7 +250,6 @@ SODT_LANES_TARGET inline void guardN(const V3& c, const V3* P, const V3* X, cons
   // moveAllowed at y, every triangle (its answer does not depend on the order).
   __m256d pass = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
   __m256d first = _mm256_set1_pd(-1.0);
-  const __m128i* faceRow = reinterpret_cast<const __m128i*>(faceRows);
   V3 u = sub(P[0], y);
   __m256d uu = dot(u, u);
   for (int k = 0; k < n; ++k) {
@@ -253,7 +258,7 @@ SODT_LANES_TARGET inline void guardN(const V3& c, const V3* P, const V3* X, cons
     const V3 next = cross(u, w);
     __m256d good = _mm256_cmp_pd(dot(next, cur[k]), zero, _CMP_GT_OQ);
     if (in.faceNormal) {
-      const V3 r = gather(in.faceNormal, _mm_loadu_si128(faceRow + k));
+      const V3 r = gather(in.faceNormal, faceRows + kWidth * k);
       good = _mm256_andnot_pd(_mm256_cmp_pd(dot(next, r), zero, _CMP_LT_OQ), good);
     }
     const __m256d l2 = max3(uu, ww, ee[k]);
@@ -289,13 +294,12 @@ template <int n>
 SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targets& out, const GuardInput* guard,
                                        StepVerdict* verdict, Prepared* prepared) {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-  const __m128i* row = reinterpret_cast<const __m128i*>(table);  // row r: kWidth ints
-  const V3 c = gather(pos, _mm_loadu_si128(row));
+  const V3 c = gather(pos, table);
 
   // The ring relative to the centre, and the area-weighted normal (starNormal).
   V3 P[n], X[n];
   for (int k = 0; k < n; ++k) {
-    P[k] = gather(pos, _mm_loadu_si128(row + k + 1));
+    P[k] = gather(pos, table + kWidth * (k + 1));
     X[k] = sub(P[k], c);
   }
   V3 sum{zero, zero, zero};
@@ -390,16 +394,9 @@ SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int 
 }
 
 namespace detail {
-/// The vertices tri[0], tri[3], tri[6], tri[9] of pos (x, y, z per
-/// vertex): three-wide loads (none reads past a vertex) and a transpose.
+/// The vertices tri[0], tri[3], tri[6], tri[9] of pos (x, y, z per vertex).
 SODT_LANES_TARGET inline V3 loadCorner(const double* pos, const int* tri) {
-  const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);
-  const __m256d p0 = _mm256_maskload_pd(pos + 3 * tri[0], xyz), p1 = _mm256_maskload_pd(pos + 3 * tri[3], xyz);
-  const __m256d p2 = _mm256_maskload_pd(pos + 3 * tri[6], xyz), p3 = _mm256_maskload_pd(pos + 3 * tri[9], xyz);
-  const __m256d x01z01 = _mm256_unpacklo_pd(p0, p1), y01 = _mm256_unpackhi_pd(p0, p1);
-  const __m256d x23z23 = _mm256_unpacklo_pd(p2, p3), y23 = _mm256_unpackhi_pd(p2, p3);
-  return V3{_mm256_permute2f128_pd(x01z01, x23z23, 0x20), _mm256_permute2f128_pd(y01, y23, 0x20),
-            _mm256_permute2f128_pd(x01z01, x23z23, 0x31)};
+  return load4(pos + 3 * tri[0], pos + 3 * tri[3], pos + 3 * tri[6], pos + 3 * tri[9]);
 }
 }  // namespace detail
 
@@ -426,7 +423,7 @@ SODT_LANES_TARGET inline void faceKeys4(const double* pos, const int* tri, const
   _mm256_storeu_pd(out.key, _mm256_and_pd(_mm256_cmp_pd(den, zero, _CMP_GT_OQ), s2));
   out.inverted = 0;
   if (ref) {
-    const V3 r = gather(ref, _mm_setr_epi32(0, 3, 6, 9));
+    const V3 r = load4(ref, ref + 3, ref + 6, ref + 9);
     out.inverted = _mm256_movemask_pd(_mm256_cmp_pd(dot(area, r), zero, _CMP_LT_OQ));
   }
 }
