@@ -276,6 +276,7 @@ struct SodtSmoother {
       laneGuardInput.roundToFloat = std::is_same<ScalarType, float>::value;
     }
     LanePlan lanePlan = useLanes ? planLanes(plan, topo, laneGuard) : LanePlan();
+    const bool prefetchFaces = p.guard != Guard::None && !faceNormal.empty();
     int phase = 0;  // colours swept so far, over all sweeps
     // A guarded visit costs from one test to a dozen (a rejected one tries
     // every step length twice), and a thread can be held up: the threads
@@ -367,6 +368,13 @@ struct SodtSmoother {
               const int* table = lanePlan.table.data() + lanePlan.tableBegin[ahead];
               const int entries = lanes::kWidth * (lanePlan.valence[ahead] + 1);
               for (int e = 0; e < entries; ++e) __builtin_prefetch(&pos[0][0] + table[e]);
+              // The guard reads the input normals of the ring's faces.
+              if (prefetchFaces) {
+                const int* va = lanePlan.vertex.data() + lanes::kWidth * ahead;
+                for (int l = 0; l < lanes::kWidth; ++l)
+                  for (int k = topo.ringBegin[va[l]]; k < topo.ringBegin[va[l] + 1]; ++k)
+                    __builtin_prefetch(&faceNormal[topo.ringFace[k]]);
+              }
             }
 #endif
             const int* vs = lanePlan.vertex.data() + lanes::kWidth * g;
