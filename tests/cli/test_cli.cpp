@@ -379,6 +379,9 @@ TEST_F(CliTest, BadIterationValuesAreUsageErrors) {
   expectUsageError(runSodt({"smooth", in_, out, "--iterations=-1"}, dir_));
   expectUsageError(runSodt({"smooth", in_, out, "--max-backtracks", "61"}, dir_));
   expectUsageError(runSodt({"smooth", in_, out, "--laplacian-fallback", "maybe"}, dir_));
+  for (const char* v : {"maybe", "", "ON", "0"})
+    expectUsageError(runSodt({"smooth", in_, out, "--distance", v}, dir_));
+  expectUsageError(runSodt({"smooth", in_, out, "--distance"}, dir_));
   EXPECT_FALSE(exists(out));
 }
 
@@ -1070,6 +1073,46 @@ TEST_F(CliTest, ThreadsDoNotChangeTheResult) {
   EXPECT_EQ(withoutMembers(json[0], {"seconds", "threads"}), withoutMembers(json[1], {"seconds", "threads"}));
   EXPECT_EQ(withoutMembers(json[0], {}), json[0]) << "the helper keeps what it is not asked to drop";
   EXPECT_LT(withoutMembers(json[0], {"seconds", "threads"}).size() + 20, json[0].size());
+}
+
+TEST_F(CliTest, DistanceOffLeavesOutOnlyTheDistance) {
+  const char* const distanceKeys[] = {"hausdorff_rel", "mean_distance_rel", "hausdorff_is_lower_bound"};
+  const std::string out = dir_ / "out.ply";  // the same OUT for all: the report names it
+  // The default, --distance on (the same), --distance off.
+  const std::vector<std::vector<std::string>> extra = {{}, {"--distance", "on"}, {"--distance=off"}};
+  std::string mesh[3], json[3];
+  RunResult run[3];
+  for (int k = 0; k < 3; ++k) {
+    const std::string report = dir_ / ("r" + std::to_string(k) + ".json");
+    std::vector<std::string> args = {"smooth", in_, out, "--report", report};
+    args.insert(args.end(), extra[k].begin(), extra[k].end());
+    run[k] = runSodt(args, dir_);
+    ASSERT_EQ(run[k].exitCode, 0) << run[k].err;
+    mesh[k] = readFile(out);
+    json[k] = readFile(report);
+  }
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_NE(json[k].find("\"distance_measured\": true"), std::string::npos) << json[k];
+    for (const char* key : distanceKeys)
+      EXPECT_EQ(json[k].find(std::string("\"") + key + "\": null"), std::string::npos) << key;
+    EXPECT_GT(jsonNumber(json[k], "hausdorff_rel"), 0.0) << json[k];
+    EXPECT_LT(jsonNumber(json[k], "hausdorff_rel"), 0.1) << json[k];
+    EXPECT_NE(run[k].out.find("distance       Hausdorff "), std::string::npos) << run[k].out;
+  }
+  EXPECT_NE(json[2].find("\"distance_measured\": false"), std::string::npos) << json[2];
+  for (const char* key : distanceKeys)
+    EXPECT_NE(json[2].find(std::string("\"") + key + "\": null"), std::string::npos) << key << "\n" << json[2];
+  EXPECT_NE(run[2].out.find("distance       not measured (--distance off)"), std::string::npos) << run[2].out;
+  EXPECT_EQ(run[2].out.find("Hausdorff"), std::string::npos) << run[2].out;
+  // Everything else is the same: OUT to the byte, the report but for the
+  // distance and the time, and the faces are still checked for inversion.
+  ASSERT_FALSE(mesh[0].empty());
+  EXPECT_TRUE(mesh[0] == mesh[1] && mesh[0] == mesh[2]) << "--distance changed OUT";
+  const std::vector<std::string> differ = {"seconds", "distance_measured", "hausdorff_rel", "mean_distance_rel",
+                                           "hausdorff_is_lower_bound"};
+  EXPECT_EQ(withoutMembers(json[0], {"seconds"}), withoutMembers(json[1], {"seconds"}));
+  EXPECT_EQ(withoutMembers(json[0], differ), withoutMembers(json[2], differ));
+  EXPECT_EQ(jsonNumber(json[2], "inverted_faces"), 0) << json[2];
 }
 
 /// Vertex index triples of the faces of a mesh file, in file order.

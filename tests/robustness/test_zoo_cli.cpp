@@ -466,7 +466,7 @@ TEST(CliBadParameters, AreUsageErrors) {
       {"--max-deviation", "1e400"},    {"--max-normal-step", "11"},    {"--flip-max-dihedral", "91"},
       {"--tolerance", "-0.5"},         {"--tolerance", "0x10"},        {"--laplacian-fallback", "yes"},
       {"--report", ""},                {"--classes-out", "c.off"},     {"--no-such-option"},
-      {"--report", out},               {"--selected-only"},
+      {"--report", out},               {"--selected-only"},            {"--distance", "yes"},
   };
   for (const auto& opts : bad) {
     std::string what;
