@@ -627,7 +627,12 @@ struct SodtSmoother {
   }
 
   /// Per-thread working memory of the sweeps and its share of the counters.
+  /// The threads' Scratch lie side by side in one array, and both ends are
+  /// written on every visit (the star's centre and size, the lane kernel's
+  /// results): the padding keeps those of neighbouring threads off a shared
+  /// cache line, which cost a tenth of a guarded sweep on two threads.
   struct Scratch {
+    char padFront[64];
     Star star;
     std::vector<Vec3> foldRef;  ///< see foldReferences
     std::vector<double> ringEdge2;  ///< see ringEdgeLengths2
@@ -638,6 +643,7 @@ struct SodtSmoother {
     std::vector<double> drift;  ///< see Budget
     std::vector<float> nextSlot;
     lanes::Prepared prepared;  ///< of the lane group being visited
+    char padBack[64];
     /// Sized up front so that no visit allocates (allocation inside a
     /// parallel region could not report failure).
     void reserve(int valence) {
