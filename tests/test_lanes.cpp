@@ -262,6 +262,80 @@ TEST(Lanes, FullStepVerdictMatchesTheScalarGuardBitForBit) {
   EXPECT_GT(laterFirst, 3000);
 }
 
+TEST(Lanes, StepLengthsTestedAtOnceMatchTheScalarGuard) {
+  if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
+  using sodt_test::uniform;
+  std::mt19937 g(4711);
+  int mismatches = 0, allowed = 0, refused = 0, mixed = 0, badWitness = 0;
+  for (int trial = 0; trial < 60000; ++trial) {
+    // Any valence: the test of step lengths is not limited to the kernel's.
+    const int n = 3 + trial % 14;
+    const bool quality = trial / 2 % 2 == 0, withRef = trial / 4 % 3 != 0;
+    const Kind kind = g() % 4 ? Kind::Jittered : static_cast<Kind>(g() % static_cast<unsigned>(Kind::Count));
+    const std::vector<Vec3> pts = makeStar(kind, n, g);
+    sodt::Star st;
+    st.center = pts[0];
+    st.ring.assign(pts.begin() + 1, pts.end());
+    if (withRef) {
+      for (int k = 0; k < n; ++k) {
+        const Vec3 area = sodt::doubleAreaVector(pts[0], pts[1 + k], pts[1 + (k + 1) % n]);
+        const unsigned r = g() % 6;
+        const Vec3 any(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1));
+        st.refNormal.push_back(r < 4 ? area : r == 4 ? -area : any);
+      }
+    }
+    Vec3 normal = sodt::starNormal(st);
+    if (normal.SquaredNorm() == 0) normal = Vec3(0, 0, 1);
+    std::vector<Vec3> cur;
+    std::vector<double> ee;
+    const double limit = sodt::prepareGuard(st, normal, quality, cur, ee);
+    // A step as a visit tries it: towards a target in the star's
+    // neighbourhood (or the S-ODT target), halved again and again.
+    double size = 0;
+    for (const Vec3& q : st.ring) size = std::max(size, (q - st.center).Norm());
+    const sodt::LocalMove mv = sodt::solveStar(st, normal);
+    const Vec3 target = mv.ok && g() % 2 ? mv.target
+                                         : st.center + Vec3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1)) *
+                                                           (size * std::pow(10.0, uniform(g, -1.5, 0.5)));
+    const int count = 1 + static_cast<int>(g() % sodt::lanes::kWidth);
+    const int halvings = static_cast<int>(g() % 3);
+    Vec3 y[sodt::lanes::kWidth];
+    double f = std::ldexp(1.0, -halvings);
+    for (int l = 0; l < count; ++l, f *= 0.5) y[l] = st.center + (target - st.center) * f;
+    if (g() % 2)
+      for (int l = 0; l < count; ++l) y[l] = sodt::roundedTo<float>(y[l]);
+    int witness = static_cast<int>(g() % static_cast<unsigned>(n + 3)) - 1;  // out of range too
+    const Vec3* ref = withRef ? st.refNormal.data() : nullptr;
+    const int pass = sodt::lanes::allowedAt(st.ring.data(), n, cur.data(), ee.data(), ref, quality, limit, y, count,
+                                            &witness);
+    int expected = 0;
+    for (int l = 0; l < count; ++l) expected |= sodt::moveAllowed(st, y[l], cur, ee, quality, limit) ? 1 << l : 0;
+    if (pass != expected && ++mismatches <= 5)
+      ADD_FAILURE() << "trial " << trial << ": lanes " << pass << ", scalar " << expected << " of " << count;
+    if (expected != (1 << count) - 1) {
+      // The witness is a triangle that refuses one of the refused positions:
+      // the scalar test started there fails there.
+      bool found = false;
+      for (int l = 0; l < count && !found; ++l) {
+        if (expected >> l & 1) continue;
+        int w = witness;
+        found = witness >= 0 && witness < n && !sodt::moveAllowed(st, y[l], cur, ee, quality, limit, &w) &&
+                w == witness;
+      }
+      badWitness += !found;
+    }
+    allowed += __builtin_popcount(static_cast<unsigned>(expected));
+    refused += count - __builtin_popcount(static_cast<unsigned>(expected));
+    mixed += expected != 0 && expected != (1 << count) - 1;
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_EQ(badWitness, 0);
+  // Both answers, and groups with both, occur often enough to mean something.
+  EXPECT_GT(allowed, 10000);
+  EXPECT_GT(refused, 10000);
+  EXPECT_GT(mixed, 1000) << allowed << " allowed, " << refused << " refused";
+}
+
 namespace {
 
 template <class M>
@@ -396,4 +470,41 @@ TEST(Lanes, SweepsAreTheSameWithAndWithoutTheKernel) {
   expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Quality, false, 2, 10, 0.0);
   expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::Quality, false, 1, 10, 0.0);
   expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Fold, true, 2, 6, 0.0);
+}
+
+TEST(Lanes, EveryAlgorithmIsTheSameWithAndWithoutTheStepLengthTest) {
+  // The lanes test step lengths four at once for every algorithm, not only
+  // for the Algorithm 1 kernel's vertices.
+  if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
+  using sodt::Algorithm;
+  const struct {
+    const char* mesh;
+    Algorithm algorithm;
+    sodt::Guard guard;
+    int threads;
+  } runs[] = {{"cube_noisy.ply", Algorithm::Feature, sodt::Guard::Quality, 1},
+              {"cube_noisy.ply", Algorithm::Denoise, sodt::Guard::Quality, 2},
+              {"cube_jitter.ply", Algorithm::Feature, sodt::Guard::Fold, 2},
+              {"blobs_mc.ply", Algorithm::Odt, sodt::Guard::Quality, 1},
+              {"sphere_jitter.ply", Algorithm::Laplacian, sodt::Guard::Quality, 2}};
+  for (const auto& r : runs) {
+    SCOPED_TRACE(std::string(r.mesh) + ", " + sodt::toString(r.algorithm) + ", guard " + sodt::toString(r.guard));
+    sodt::MeshF with, without;
+    load(with, r.mesh);
+    load(without, r.mesh);
+    sodt::SodtParams p;
+    p.algorithm = r.algorithm;
+    p.guard = r.guard;
+    p.iterations = 8;
+    p.threads = r.threads;
+    const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshF>::Apply(with, p);
+    p.simd = false;
+    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshF>::Apply(without, p);
+    EXPECT_EQ(counters(a), counters(b));
+    EXPECT_EQ(a.deviationQueries, b.deviationQueries);
+    EXPECT_EQ(a.deviationReused, b.deviationReused);
+    // Shortened steps and rejections happen, so lengths were tested in groups.
+    EXPECT_GT(a.backtracked + a.rejected, 0);
+    EXPECT_EQ(sodt_test::positions(with), sodt_test::positions(without));
+  }
 }

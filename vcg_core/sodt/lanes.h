@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The Algorithm 1 target (tangent plane of Eq. 4, minimiser of Eq. 5) for
 // four vertices at once, one per AVX2 lane, and the move guard's test of
-// the full step to it. Every lane performs the operations of starNormal,
+// the full step to it; and the guard's test of up to four step lengths of
+// one vertex at once (allowedAt). Every lane performs the operations of starNormal,
 // solveStar, prepareGuard and moveAllowed (local_solve.h) in the same
 // order, with no fused multiply-add, so each lane's result is bit for bit
 // the one the scalar code gives. Builds without x86 GCC/Clang, or with SODT_NO_LANES
@@ -176,6 +177,10 @@ SODT_LANES_TARGET inline __m256d pick(__m256d a, __m256d b, __m256d where) { ret
 SODT_LANES_TARGET inline __m256d max3(__m256d a, __m256d b, __m256d c) {
   return _mm256_max_pd(_mm256_max_pd(a, b), c);
 }
+/// q in every lane.
+SODT_LANES_TARGET inline V3 bcast(const Vec3& q) {
+  return V3{_mm256_set1_pd(q[0]), _mm256_set1_pd(q[1]), _mm256_set1_pd(q[2])};
+}
 /// The squared cosine of the guard's angle tests: !(den > 0) ? 1 : dot <= 0 ?
 /// 0 : std::min(1.0, dot * dot / den).
 SODT_LANES_TARGET inline __m256d cos2(__m256d dot, __m256d den) {
@@ -184,6 +189,34 @@ SODT_LANES_TARGET inline __m256d cos2(__m256d dot, __m256d den) {
   const __m256d m = pick(one, q, _mm256_cmp_pd(q, one, _CMP_LT_OQ));  // std::min(1.0, q) is q < 1 ? q : 1
   const __m256d r = pick(m, zero, _mm256_cmp_pd(dot, zero, _CMP_LE_OQ));
   return pick(one, r, _mm256_cmp_pd(den, zero, _CMP_GT_OQ));
+}
+
+/// moveAllowed's test of star triangle k with the centre at y: u and w
+/// are its ring vertices k and k + 1 less y, uu and ww their squared
+/// lengths, ee that of the ring edge between them, cur the triangle's fold
+/// reference, ref its input normal (or null), limit the angle limit.
+/// All-ones in the lanes where the triangle passes.
+SODT_LANES_TARGET inline __m256d triangleAllowed(const V3& u, const V3& w, __m256d uu, __m256d ww, __m256d ee,
+                                                 const V3& cur, const V3* ref, bool quality, __m256d limit) {
+  const __m256d zero = _mm256_setzero_pd();
+  constexpr double kCollapse = 1e-12;  // as moveAllowed
+  const V3 next = cross(u, w);
+  __m256d good = _mm256_cmp_pd(dot(next, cur), zero, _CMP_GT_OQ);
+  if (ref) good = _mm256_andnot_pd(_mm256_cmp_pd(dot(next, *ref), zero, _CMP_LT_OQ), good);
+  const __m256d l2 = max3(uu, ww, ee);
+  good = _mm256_and_pd(good, _mm256_cmp_pd(dot(next, next), mul(mul(_mm256_set1_pd(kCollapse * kCollapse), l2), l2),
+                                           _CMP_GT_OQ));
+  if (quality) {
+    // The smallest angle is opposite the shortest edge.
+    const __m256d uw = dot(u, w);
+    const __m256d atCentre = _mm256_and_pd(_mm256_cmp_pd(ee, uu, _CMP_LE_OQ), _mm256_cmp_pd(ee, ww, _CMP_LE_OQ));
+    const __m256d atA = _mm256_andnot_pd(atCentre, _mm256_cmp_pd(ww, uu, _CMP_LE_OQ));
+    const __m256d d = pick(pick(sub(ww, uw), sub(uu, uw), atA), uw, atCentre);
+    const __m256d l1 = pick(pick(ww, uu, atA), uu, atCentre);
+    const __m256d l3 = pick(ee, ww, atCentre);
+    good = _mm256_andnot_pd(_mm256_cmp_pd(cos2(d, mul(l1, l3)), limit, _CMP_GT_OQ), good);
+  }
+  return good;
 }
 
 /// prepareGuard for a star of valence n (centre c, ring P, absolute, and X
@@ -197,7 +230,7 @@ SODT_LANES_TARGET inline void guardN(const V3& c, const V3* P, const V3* X, cons
                                      Prepared* prepared) {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
   constexpr double kCollapse = 1e-12;  // as prepareGuard and moveAllowed
-  const __m256d collapse = _mm256_set1_pd(kCollapse), collapse2 = _mm256_set1_pd(kCollapse * kCollapse);
+  const __m256d collapse = _mm256_set1_pd(kCollapse);
 
   // prepareGuard: fold references, ring edge lengths, the star's worst angle.
   V3 cur[n];
@@ -255,25 +288,8 @@ SODT_LANES_TARGET inline void guardN(const V3& c, const V3* P, const V3* X, cons
   for (int k = 0; k < n; ++k) {
     const V3 w = sub(P[k + 1 < n ? k + 1 : 0], y);
     const __m256d ww = dot(w, w);
-    const V3 next = cross(u, w);
-    __m256d good = _mm256_cmp_pd(dot(next, cur[k]), zero, _CMP_GT_OQ);
-    if (in.faceNormal) {
-      const V3 r = gather(in.faceNormal, faceRows + kWidth * k);
-      good = _mm256_andnot_pd(_mm256_cmp_pd(dot(next, r), zero, _CMP_LT_OQ), good);
-    }
-    const __m256d l2 = max3(uu, ww, ee[k]);
-    good = _mm256_and_pd(good, _mm256_cmp_pd(dot(next, next), mul(mul(collapse2, l2), l2), _CMP_GT_OQ));
-    if (in.quality) {
-      // The smallest angle is opposite the shortest edge.
-      const __m256d uw = dot(u, w);
-      const __m256d atCentre =
-          _mm256_and_pd(_mm256_cmp_pd(ee[k], uu, _CMP_LE_OQ), _mm256_cmp_pd(ee[k], ww, _CMP_LE_OQ));
-      const __m256d atA = _mm256_andnot_pd(atCentre, _mm256_cmp_pd(ww, uu, _CMP_LE_OQ));
-      const __m256d d = pick(pick(sub(ww, uw), sub(uu, uw), atA), uw, atCentre);
-      const __m256d l1 = pick(pick(ww, uu, atA), uu, atCentre);
-      const __m256d l3 = pick(ee[k], ww, atCentre);
-      good = _mm256_andnot_pd(_mm256_cmp_pd(cos2(d, mul(l1, l3)), limit, _CMP_GT_OQ), good);
-    }
+    const V3 r = in.faceNormal ? gather(in.faceNormal, faceRows + kWidth * k) : V3{zero, zero, zero};
+    const __m256d good = triangleAllowed(u, w, uu, ww, ee[k], cur[k], in.faceNormal ? &r : nullptr, in.quality, limit);
     first = pick(first, _mm256_set1_pd(k), _mm256_andnot_pd(good, pass));
     pass = _mm256_and_pd(pass, good);
     u = w;
@@ -393,6 +409,48 @@ SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int 
   }
 }
 
+/// moveAllowed (local_solve.h) for count (1 to kWidth) positions p of the
+/// centre of one star at once, one per lane: the star's ring (n points in
+/// cyclic order), its triangles' fold references cur and squared ring edges
+/// ringEdge2 (prepareGuard), input normals ref (Star::refNormal) or null for
+/// none, quality and cos2Limit as for moveAllowed. Returns bit l set when
+/// moveAllowed accepts p[l], bit for bit. witness as for moveAllowed: the
+/// test starts at triangle *witness (the answer does not depend on it) and
+/// ends early once every position has failed; when one has, *witness gets a
+/// triangle that failed.
+SODT_LANES_TARGET inline int allowedAt(const Vec3* ring, int n, const Vec3* cur, const double* ringEdge2,
+                                       const Vec3* ref, bool quality, double cos2Limit, const Vec3* p, int count,
+                                       int* witness) {
+  using namespace detail;
+  if (n == 0) return (1 << count) - 1;
+  const __m256d limit = _mm256_set1_pd(cos2Limit);
+  const Vec3& last = p[count - 1];  // the spare lanes repeat the last position
+  const V3 y = load4(&p[0][0], count > 1 ? &p[1][0] : &last[0], count > 2 ? &p[2][0] : &last[0],
+                     count > 3 ? &p[3][0] : &last[0]);
+  const int k0 = witness && *witness > 0 && *witness < n ? *witness : 0;
+  __m256d pass = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  const int lanesUsed = (1 << count) - 1;
+  V3 u = sub(bcast(ring[k0]), y);
+  __m256d uu = dot(u, u);
+  int firstFail = -1;
+  for (int t = 0, k = k0; t < n; ++t) {
+    const int k1 = k + 1 < n ? k + 1 : 0;
+    const V3 w = sub(bcast(ring[k1]), y);
+    const __m256d ww = dot(w, w);
+    const V3 r = ref ? bcast(ref[k]) : V3();
+    const __m256d good = triangleAllowed(u, w, uu, ww, _mm256_set1_pd(ringEdge2[k]), bcast(cur[k]), ref ? &r : nullptr,
+                                         quality, limit);
+    if (firstFail < 0 && (_mm256_movemask_pd(good) & lanesUsed) != lanesUsed) firstFail = k;
+    pass = _mm256_and_pd(pass, good);
+    if ((_mm256_movemask_pd(pass) & lanesUsed) == 0) break;
+    u = w;
+    uu = ww;
+    k = k1;
+  }
+  if (witness && firstFail >= 0) *witness = firstFail;
+  return _mm256_movemask_pd(pass) & lanesUsed;
+}
+
 namespace detail {
 /// The vertices tri[0], tri[3], tri[6], tri[9] of pos (x, y, z per vertex).
 SODT_LANES_TARGET inline V3 loadCorner(const double* pos, const int* tri) {
@@ -436,6 +494,10 @@ inline void targets4(const double*, const int*, int, Targets& out, const GuardIn
   if (verdict) verdict->allowed = verdict->refused = 0;
 }
 inline void faceKeys4(const double*, const int*, const double*, FaceKeys& out) { out.inverted = 0; }
+inline int allowedAt(const Vec3*, int, const Vec3*, const double*, const Vec3*, bool, double, const Vec3*, int,
+                     int*) {
+  return 0;
+}
 #endif
 
 }  // namespace lanes

@@ -72,9 +72,10 @@ struct SodtParams {
   /// AVX2 lanes when the processor has them (see lanes.h); the guards then
   /// check each vertex's move as usual, except that without the deviation
   /// bound (maxDeviationRel 0) the lanes also test the full step under the
-  /// fold and angle guard and commit it when it passes. The quality measured after each
-  /// sweep for keepBest and toleranceDeg takes four faces at once too. The
-  /// results are the same bit for bit either way.
+  /// fold and angle guard and commit it when it passes. Every algorithm's
+  /// guard tests the shortened steps of a visit four lengths at once. The
+  /// quality measured after each sweep for keepBest and toleranceDeg takes
+  /// four faces at once too. The results are the same bit for bit either way.
   bool simd = true;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.

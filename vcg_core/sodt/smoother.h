@@ -207,7 +207,7 @@ struct SodtSmoother {
       input.pos = &pos0;
       input.prepare(p.maxDeviationRel * bboxDiagonal(pos, topo));
     }
-    Context ctx{p, cls, fit, meanEdge, deviationGuard ? &input : nullptr};
+    Context ctx{p, cls, fit, meanEdge, deviationGuard ? &input : nullptr, p.simd && lanes::available()};
     FlipRules flipRules;
     flipRules.maxDihedralRad = p.flipMaxDihedralDeg * kPi / 180.0;
     if (p.algorithm != Algorithm::Basic) flipRules.cls = &cls.cls;
@@ -605,6 +605,8 @@ struct SodtSmoother {
     const std::vector<FittedFrame>& fit;  ///< Denoise only
     double meanEdge;
     const InputSurface* input;  ///< deviation guard, or null
+    /// tryStep tests step lengths four at once (lanes::allowedAt).
+    bool lengthLanes;
   };
 
   /// How one vertex visit ended.
@@ -714,24 +716,57 @@ struct SodtSmoother {
   /// length was vetoed, -2 when the step rounds to no move at all. witness:
   /// see moveAllowed, shared by the calls of one visit. fullRefused: the
   /// full step is known to fail moveAllowed.
+  ///
+  /// The lengths are taken in order and the first that passes is
+  /// committed. With c.lengthLanes, the shortened steps go through
+  /// moveAllowed's test four at once (lanes::allowedAt, the same answers);
+  /// the deviation test then runs on those that passed, in order, as it
+  /// would one by one.
   static int tryStep(const Context& c, int i, const Star& star, int* hints, const std::vector<Vec3>& foldRef,
                      const std::vector<double>& ringEdge2, const Vec3& target, double minAngleCos2Before,
                      int& pointHint, Budget& budget, int& witness, Vec3& x, bool fullRefused = false) {
     const SodtParams& p = c.p;
+    const bool quality = p.guard == Guard::Quality;
     const Vec3 step = target - star.center;
     double f = 1.0;
-    for (int j = 0; j <= p.maxBacktracks; ++j, f *= 0.5) {
-      const Vec3 y = representable(star.center + step * f);
-      if (!isFinite(y)) continue;
-      if (y == x) return j == 0 ? -2 : -1;  // shorter steps round to nothing as well
-      if (j == 0 && fullRefused) continue;
-      if (!moveAllowed(star, y, foldRef, ringEdge2, p.guard == Guard::Quality, minAngleCos2Before, &witness))
-        continue;
-      if (c.input && !c.input->keeps(i, star, y, hints, pointHint, (y - star.center).Norm() + budget.eps, budget.drift,
-                                     budget.last, budget.next, budget.queried, budget.reused))
-        continue;
-      x = y;
-      return j;
+    int j = 0;
+    while (j <= p.maxBacktracks) {
+      // The next lengths to test: the first alone (the full step passes
+      // most often), then up to four at once.
+      Vec3 y[lanes::kWidth];
+      int yj[lanes::kWidth];
+      // end: the answer (-2 or -1) once a length rounds to no move, after
+      // which no shorter one is tried; 0 before.
+      int m = 0, end = 0;
+      const int want = c.lengthLanes && !(j == 0 && !fullRefused) ? lanes::kWidth : 1;
+      for (; j <= p.maxBacktracks && m < want; ++j, f *= 0.5) {
+        const Vec3 yy = representable(star.center + step * f);
+        if (!isFinite(yy)) continue;
+        if (yy == x) {
+          end = j == 0 ? -2 : -1;  // shorter steps round to nothing as well
+          break;
+        }
+        if (j == 0 && fullRefused) continue;
+        y[m] = yy;
+        yj[m++] = j;
+      }
+      int pass = 0;
+      if (m == 1) {
+        pass = moveAllowed(star, y[0], foldRef, ringEdge2, quality, minAngleCos2Before, &witness) ? 1 : 0;
+      } else if (m > 1) {
+        pass = lanes::allowedAt(star.ring.data(), static_cast<int>(star.size()), foldRef.data(), ringEdge2.data(),
+                                star.refNormal.size() == star.size() ? star.refNormal.data() : nullptr, quality,
+                                minAngleCos2Before, y, m, &witness);
+      }
+      for (int l = 0; l < m; ++l) {
+        if (!(pass >> l & 1)) continue;
+        if (c.input && !c.input->keeps(i, star, y[l], hints, pointHint, (y[l] - star.center).Norm() + budget.eps,
+                                       budget.drift, budget.last, budget.next, budget.queried, budget.reused))
+          continue;
+        x = y[l];
+        return yj[l];
+      }
+      if (end < 0) return end;
     }
     return -1;
   }
