@@ -16,6 +16,7 @@
 #include <sodt/smoother.h>
 #include <sodt/topology.h>
 
+#include <array>
 #include <cstdlib>
 #include <functional>
 #include <limits>
@@ -370,6 +371,88 @@ TEST(ZooLoader, PolygonsAreFanTriangulated) {
   for (std::size_t i = 0; i < s.pos.size(); ++i)
     for (int k = 0; k < 3; ++k) EXPECT_TRUE(sodt_zoo::sameBits(s.pos[i][k], z.soup.pos[i][k])) << "vertex " << i;
   for (std::size_t f = 0; f < s.tri.size(); ++f) EXPECT_EQ(s.tri[f], z.soup.tri[f]) << "face " << f;
+}
+
+/// A binary little-endian PLY of a rows x cols grid of quads split in
+/// triangles, with an element of fixed-size rows after the faces. The
+/// body is several times the loader's 64 KB read buffer, so values straddle
+/// its edges. badFace: a face whose last index is made out of range (-1: none).
+std::string gridPly(int rows, int cols, long long badFace = -1) {
+  std::string body;
+  auto put = [&body](const void* p, std::size_t n) { body.append(static_cast<const char*>(p), n); };
+  for (int r = 0; r <= rows; ++r)
+    for (int c = 0; c <= cols; ++c) {
+      const float z = 0.25f * static_cast<float>((r * 7 + c * 3) % 5);
+      const float xyz[3] = {static_cast<float>(c), static_cast<float>(r), z};
+      put(xyz, sizeof xyz);
+    }
+  long long face = 0;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const int a = r * (cols + 1) + c, b = a + 1, d = a + cols + 1, e = d + 1;
+      for (const std::array<int, 3>& t : {std::array<int, 3>{a, b, e}, std::array<int, 3>{a, e, d}}) {
+        const unsigned char n = 3;
+        put(&n, 1);
+        std::array<int, 3> u = t;
+        if (face++ == badFace) u[2] = (rows + 1) * (cols + 1);
+        put(u.data(), sizeof u);
+      }
+    }
+  for (int k = 0; k < 5000; ++k) {
+    const float v = static_cast<float>(k);
+    put(&v, sizeof v);
+  }
+  return "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string((rows + 1) * (cols + 1)) +
+         "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+         std::to_string(2LL * rows * cols) +
+         "\nproperty list uchar int vertex_indices\nelement extra 5000\nproperty float value\nend_header\n" + body;
+}
+
+/// The loader walks a binary body through a buffer of its own: files many
+/// buffers long load, and a bad index or a cut anywhere, at the buffer's
+/// edges too, is found and named.
+TEST(ZooLoader, LongBinaryFilesAreCheckedAcrossTheReadBuffer) {
+  char dir[] = "/tmp/sodt_zoo_buffer_XXXXXX";
+  ASSERT_NE(::mkdtemp(dir), nullptr);
+  const std::string path = std::string(dir) + "/grid.ply";
+  const int rows = 120, cols = 150;  // 18271 vertices, 36000 faces of 13 bytes: 468 KB of faces
+  const std::string good = gridPly(rows, cols);
+  const std::size_t bodyStart = good.find("end_header\n") + 11;
+  const std::size_t facesStart = bodyStart + 12 * std::size_t(rows + 1) * (cols + 1);
+  const std::size_t extraStart = facesStart + 13 * 2 * std::size_t(rows) * cols;
+  ASSERT_EQ(extraStart + 4 * 5000, good.size());
+  auto loadError = [&](const std::string& bytes) -> std::string {
+    sodt_zoo::writeText(path, bytes);
+    MeshD m;
+    try {
+      sodt::loadMesh(path, m);
+    } catch (const sodt::InvalidInput& e) {
+      return e.what();
+    }
+    EXPECT_EQ(m.vn, (rows + 1) * (cols + 1));
+    EXPECT_EQ(m.fn, 2 * rows * cols);
+    return "";
+  };
+  EXPECT_EQ(loadError(good), "");
+  // A bad index in the face that straddles each of the first buffer edges
+  // in the face block, and in the first and the last face.
+  const std::size_t kBuffer = 1 << 16;
+  std::vector<long long> badFaces = {0, 2LL * rows * cols - 1};
+  for (std::size_t edge = kBuffer; edge < extraStart - bodyStart; edge += kBuffer)
+    if (bodyStart + edge > facesStart) badFaces.push_back(static_cast<long long>((bodyStart + edge - facesStart) / 13));
+  ASSERT_GE(badFaces.size(), 8u);
+  for (long long f : badFaces)
+    EXPECT_NE(loadError(gridPly(rows, cols, f)).find("vertex index out of range"), std::string::npos) << "face " << f;
+  // Cuts: inside the faces (at and around buffer edges) and inside the element after them.
+  for (std::size_t edge = kBuffer; edge < extraStart - bodyStart; edge += kBuffer)
+    for (std::size_t cut : {bodyStart + edge - 1, bodyStart + edge, bodyStart + edge + 1}) {
+      if (cut <= facesStart + 13) continue;
+      EXPECT_NE(loadError(good.substr(0, cut)).find("the data ends inside element 'face'"), std::string::npos)
+          << "cut at " << cut;
+    }
+  EXPECT_NE(loadError(good.substr(0, good.size() - 3)).find("the data ends inside element 'extra'"), std::string::npos);
+  ::unlink(path.c_str());
+  ::rmdir(dir);
 }
 
 }  // namespace

@@ -305,7 +305,9 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
     bool list = false;
     std::string countType, valueType;
     int countSize = 0, valueSize = 0;
+    bool countSigned = false, valueSigned = false;
     bool isIndex = false;
+    bool faceValues = false;  ///< a face 'color' or 'texcoord' list (see below)
     std::string name;
   };
   struct Elem {
@@ -371,7 +373,10 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       }
       if ((pr.list && pr.countSize == 0) || pr.valueSize == 0)
         fail("unknown property type on line " + std::to_string(lineNo));
+      pr.countSigned = isSigned(pr.countType);
+      pr.valueSigned = isSigned(pr.valueType);
       pr.isIndex = pr.list && (name == "vertex_indices" || name == "vertex_index");
+      pr.faceValues = elems.back().name == "face" && (name == "color" || name == "texcoord");
       pr.name = name;
       elems.back().props.push_back(pr);
     } else if (word == "end_header") {
@@ -449,7 +454,38 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       fail("malformed " + std::string(isFloatType(type) ? "number" : "integer") + " '" + t.substr(0, 40) +
            "' in the data");
   };
-  auto readInt = [&](const std::string& type, int size, long long& out) -> bool {
+  // The binary body is read through a buffer of its own: a stream read per
+  // value cost more than everything this walk checks.
+  std::vector<char> buf(ascii ? 0 : 1 << 16);
+  long long bufBase = 0;         // file offset of buf[0]
+  std::size_t bufAt = 0, bufEnd = 0;
+  const auto bodyStart = in.tellg();
+  if (!ascii && bodyStart >= 0) bufBase = static_cast<long long>(bodyStart);
+  auto refill = [&]() -> bool {
+    bufBase += static_cast<long long>(bufEnd);
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    bufEnd = static_cast<std::size_t>(in.gcount());
+    bufAt = 0;
+    in.clear();  // a short read at the end of the file leaves the stream usable for seeks
+    return bufEnd > 0;
+  };
+  auto readBytes = [&](unsigned char* out, int n) -> bool {
+    for (int k = 0; k < n; ++k) {
+      if (bufAt == bufEnd && !refill()) return false;
+      out[k] = static_cast<unsigned char>(buf[bufAt++]);
+    }
+    return true;
+  };
+  auto skipBytes = [&](long long n) -> bool {
+    while (n > 0) {
+      if (bufAt == bufEnd && !refill()) return false;
+      const long long take = std::min<long long>(n, static_cast<long long>(bufEnd - bufAt));
+      bufAt += static_cast<std::size_t>(take);
+      n -= take;
+    }
+    return true;
+  };
+  auto readInt = [&](const std::string& type, int size, bool sign, long long& out) -> bool {
     if (ascii) {
       std::string t;
       if (!(in >> t)) return false;
@@ -464,10 +500,10 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       return true;
     }
     unsigned char b[8] = {0};
-    if (!in.read(reinterpret_cast<char*>(b), size)) return false;
+    if (!readBytes(b, size)) return false;
     unsigned long long u = 0;
     for (int k = 0; k < size; ++k) u = (u << 8) | b[bigEndian ? k : size - 1 - k];
-    if (isSigned(type) && size < 8 && ((u >> (8 * size - 1)) & 1u))
+    if (sign && size < 8 && ((u >> (8 * size - 1)) & 1u))
       out = static_cast<long long>(u) - (1LL << (8 * size));
     else
       out = static_cast<long long>(u);
@@ -482,11 +518,7 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       }
       return true;
     }
-    // Read past, not seek: a seek on a file stream is a system call, and
-    // the walk skips every vertex coordinate.
-    const std::streamsize bytes = static_cast<std::streamsize>(values * size);
-    in.ignore(bytes);
-    return in.gcount() == bytes;
+    return skipBytes(values * size);
   };
   // Element counts the file cannot hold (each needs at least a byte per
   // property): refuse them before walking, so a huge count costs nothing.
@@ -509,10 +541,17 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       // Fixed-size rows: nothing in them to check, one jump over all of them.
       long long row = 0;
       for (const Prop& pr : e.props) row += pr.valueSize;
-      const long long at = static_cast<long long>(in.tellg());
-      if (at < 0 || e.count > (size - at) / std::max(1LL, row)) truncated(e);
-      in.seekg(static_cast<std::streamoff>(e.count * row), std::ios::cur);
-      if (in.fail()) truncated(e);
+      const long long at = bufBase + static_cast<long long>(bufAt);
+      if (bodyStart < 0 || e.count > (size - at) / std::max(1LL, row)) truncated(e);
+      const long long to = at + e.count * row;
+      if (to <= bufBase + static_cast<long long>(bufEnd)) {
+        bufAt = static_cast<std::size_t>(to - bufBase);
+      } else {
+        in.seekg(static_cast<std::streamoff>(to));
+        if (in.fail()) truncated(e);
+        bufBase = to;
+        bufAt = bufEnd = 0;
+      }
       continue;
     }
     for (long long i = 0; i < e.count; ++i)
@@ -522,14 +561,14 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
           continue;
         }
         long long n = 0;
-        if (!readInt(pr.countType, pr.countSize, n)) truncated(e);
+        if (!readInt(pr.countType, pr.countSize, pr.countSigned, n)) truncated(e);
         if (isFace && pr.isIndex) {
           if (n < 3 || n > 255)
             fail("face " + std::to_string(i) + " has " + (n < 0 ? std::string("an invalid number of") : std::to_string(n)) +
                  " corners; faces need 3 to 255 corners");
           for (long long k = 0; k < n; ++k) {
             long long idx = 0;
-            if (!readInt(pr.valueType, pr.valueSize, idx)) truncated(e);
+            if (!readInt(pr.valueType, pr.valueSize, pr.valueSigned, idx)) truncated(e);
             if (idx < 0 || idx >= vertices)
               fail("face " + std::to_string(i) + " has a vertex index out of range");
           }
@@ -539,7 +578,7 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
         // vcglib reads a face 'color' or 'texcoord' list into a 32-value
         // buffer, and skips every other binary list with a one-byte count into
         // a 512-byte buffer.
-        const bool faceValues = isFace && (pr.name == "color" || pr.name == "texcoord");
+        const bool faceValues = pr.faceValues;
         if (faceValues && n > 32)
           fail("face " + std::to_string(i) + " has " + std::to_string(n) + " '" + pr.name +
                "' values; at most 32 are supported");
