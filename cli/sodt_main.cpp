@@ -454,11 +454,17 @@ struct Measures {
   sodt::VolumeResult volume;
 };
 
-Measures measure(const MeshD& m) {
+/// On threads threads (the measures do not depend on their number).
+Measures measure(const MeshD& m, int threads) {
   Measures r;
-  r.angles = sodt::computeAngleStats(m);
-  r.volume = sodt::enclosedVolume(m);
+  r.angles = sodt::computeAngleStats(m, threads);
+  r.volume = sodt::enclosedVolume(m, threads);
   return r;
+}
+
+/// The threads of a run asked for requested threads (0: all cores).
+int workerThreads(int requested) {
+  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 /// Writes the members of one measures object (inside an open object).
@@ -934,7 +940,7 @@ int runSmooth(const std::vector<std::string>& args) {
     throw UsageError("--selected-only: the input has no selected vertices", kSmoothHelp);
 
   gStatus.draw("measuring input...");
-  const Measures before = measure(m);
+  const Measures before = measure(m, workerThreads(o.params.threads));
   // Not a copy of the mesh: with the smoother's working memory that would
   // more than double the peak on a large mesh.
   InputGeometry input = keepInput(m, o.params.flips);
@@ -949,7 +955,7 @@ int runSmooth(const std::vector<std::string>& args) {
   if (st.cancelled) throw std::runtime_error("smoothing was cancelled");
 
   gStatus.draw("measuring output...");
-  const Measures after = measure(m);
+  const Measures after = measure(m, st.threads);
   Distance dist;
   long long inverted = -1;
   {
@@ -959,7 +965,7 @@ int runSmooth(const std::vector<std::string>& args) {
       dist = distanceTo(m, ref, st.threads);
     else
       dist.measured = false;
-    inverted = sodt::countInvertedFaces(m, ref);
+    inverted = sodt::countInvertedFaces(m, ref, st.threads);
   }
   gStatus.end(false);
 
@@ -1019,7 +1025,8 @@ int runStats(const std::vector<std::string>& args) {
   if (!reference.empty()) loadInput(reference, ref, nullptr);
 
   gStatus.draw("measuring...");
-  const Measures s = measure(m);
+  const int threads = workerThreads(0);
+  const Measures s = measure(m, threads);
   sodt::JsonWriter j;
   j.beginObject();
   j.member("input", in);
@@ -1027,8 +1034,8 @@ int runStats(const std::vector<std::string>& args) {
   j.member("faces", m.fn);
   writeMeasures(j, s);
   if (!reference.empty()) {
-    const Distance d = distanceTo(m, ref, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
-    const long long inv = (m.vn == ref.vn && m.fn == ref.fn) ? sodt::countInvertedFaces(m, ref) : -1;
+    const Distance d = distanceTo(m, ref, threads);
+    const long long inv = (m.vn == ref.vn && m.fn == ref.fn) ? sodt::countInvertedFaces(m, ref, threads) : -1;
     j.member("reference", reference);
     writeDistance(j, d);
     if (inv >= 0)

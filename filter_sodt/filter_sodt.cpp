@@ -14,10 +14,12 @@
 #include <vcg/complex/algorithms/update/flag.h>
 #include <vcg/complex/algorithms/update/selection.h>
 
+#include <algorithm>
 #include <cstdarg>
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -323,8 +325,11 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
             "S-ODT: 'Affect only selection' is on but nothing is selected; no vertex will move");
     }
 
-    const sodt::AngleStats before = sodt::computeAngleStats(m);
-    const sodt::VolumeResult volBefore = sodt::enclosedVolume(m);
+    // The measures do not depend on the number of threads either.
+    const int measureThreads =
+        p.threads > 0 ? p.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const sodt::AngleStats before = sodt::computeAngleStats(m, measureThreads);
+    const sodt::VolumeResult volBefore = sodt::enclosedVolume(m, measureThreads);
 
     // The faces' vertex references, to tell whether the returned state has
     // other faces (keepBest may return a state from before the flips).
@@ -356,7 +361,7 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
       sodt::colorizeByClass(m, classes);
     }
 
-    const sodt::AngleStats after = sodt::computeAngleStats(m);
+    const sodt::AngleStats after = sodt::computeAngleStats(m, s.threads);
     Log(strFormat("S-ODT: algorithm %s, guard %s, %d iterations, max backtracks %d, "
                   "Laplacian fallback %s, selected only %s",
                   sodt::toString(p.algorithm), sodt::toString(p.guard), p.iterations,
@@ -373,7 +378,7 @@ bool FilterSodtPlugin::applySmooth(MeshDocument& md, const RichParameterList& pa
                   before.minDeg, after.minDeg, before.maxDeg, after.maxDeg,
                   100.0 * before.fracBelow30, 100.0 * after.fracBelow30));
     if (volBefore.closed) {
-      const sodt::VolumeResult volAfter = sodt::enclosedVolume(m);
+      const sodt::VolumeResult volAfter = sodt::enclosedVolume(m, s.threads);
       const double rel = volBefore.volume != 0.0
                              ? (volAfter.volume - volBefore.volume) / volBefore.volume
                              : 0.0;

@@ -369,3 +369,59 @@ TEST(Metrics, DistanceSamplerMatchesVcgFarFromTheOrigin) {
     }
   }
 }
+
+TEST(Metrics, MeasuresAreTheSameOnAnyNumberOfThreads) {
+  // Large enough for the measures to split their work between threads.
+  Mesh s;
+  sodt_test::makeSphere(s, 5);
+  sodt_test::jitterOnSphere(s, 0.4, 21);
+  ASSERT_GE(s.fn, 16384);
+  const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  const auto check = [&](const Mesh& m, const char* what) {
+    SCOPED_TRACE(what);
+    const sodt::AngleStats a1 = sodt::computeAngleStats(m, 1);
+    const sodt::VolumeResult v1 = sodt::enclosedVolume(m, 1);
+    EXPECT_EQ(v1.closed, closedOrientedByDefinition(m));
+    for (int t : {2, 3, 8}) {
+      const sodt::AngleStats a = sodt::computeAngleStats(m, t);
+      EXPECT_TRUE(same(a.minDeg, a1.minDeg) && same(a.maxDeg, a1.maxDeg) && same(a.fracBelow30, a1.fracBelow30) &&
+                  same(a.fracAbove90, a1.fracAbove90) && same(a.p1TriMinDeg, a1.p1TriMinDeg))
+          << t << " threads";
+      EXPECT_EQ(a.faces, a1.faces);
+      EXPECT_EQ(a.histogram, a1.histogram);
+      const sodt::VolumeResult v = sodt::enclosedVolume(m, t);
+      EXPECT_EQ(v.closed, v1.closed) << t << " threads";
+      EXPECT_TRUE(same(v.volume, v1.volume)) << t << " threads";
+      EXPECT_EQ(sodt::isClosedOriented(m, t), v1.closed);
+    }
+    return a1;
+  };
+  const sodt::AngleStats whole = check(s, "sphere");
+  EXPECT_EQ(whole.faces, s.fn);
+  {
+    Mesh e;
+    vcg::tri::Append<Mesh, Mesh>::MeshCopy(e, s);
+    vcg::tri::Allocator<Mesh>::DeleteFace(e, e.face[9000]);
+    const sodt::AngleStats a = check(e, "a face deleted");
+    EXPECT_EQ(a.faces, s.fn - 1);
+    std::swap(e.face[12000].V(0), e.face[12000].V(1));
+    check(e, "and one turned over");
+  }
+  {
+    Mesh e;
+    vcg::tri::Append<Mesh, Mesh>::MeshCopy(e, s);
+    const auto& f = e.face[15000];
+    sodt_test::addFace(e, int(f.cV(0) - &e.vert[0]), int(f.cV(1) - &e.vert[0]), int(f.cV(2) - &e.vert[0]));
+    check(e, "a face doubled");
+  }
+  // Inverted faces: vertices pushed through the surface turn their faces over.
+  Mesh moved;
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(moved, s);
+  for (int i = 0; i < moved.vn; i += 331) moved.vert[i].P() *= -0.2;
+  const long long inv1 = sodt::countInvertedFaces(moved, s, 1);
+  EXPECT_GT(inv1, 20);
+  for (int t : {2, 3, 8}) EXPECT_EQ(sodt::countInvertedFaces(moved, s, t), inv1) << t << " threads";
+  // Face lists that do not correspond, late in the list: -1 on any number.
+  std::swap(moved.face[19000].V(0), moved.face[19000].V(1));
+  for (int t : {1, 2, 3}) EXPECT_EQ(sodt::countInvertedFaces(moved, s, t), -1) << t << " threads";
+}

@@ -12,6 +12,7 @@
 #include <vcg/complex/complex.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -471,43 +472,69 @@ DistanceStats distanceAsIs(MeshA& A, MeshB& B, int threads) {
 
 }  // namespace detail
 
-/// Corner-angle statistics of the live triangles of m, computed in double.
+/// Corner-angle statistics of the live triangles of m, computed in double
+/// on threads threads (the result is the same for any number: it is made
+/// of counts, extremes and an order statistic).
 template <class MeshType>
-AngleStats computeAngleStats(const MeshType& m) {
+AngleStats computeAngleStats(const MeshType& m, int threads = 1) {
   AngleStats s;
-  std::vector<double> triMin;
-  triMin.reserve(m.face.size());
+  const long long nf = static_cast<long long>(m.face.size());
+  // Per face its smallest angle; deleted faces get +inf and sort last.
+  std::vector<double> triMin(m.face.size());
   double lo = 180, hi = 0;
-  long long below30 = 0, above90 = 0, corners = 0;
-  for (const auto& f : m.face) {
-    if (f.IsD()) continue;
-    const Vec3 p[3] = {detail::toVec3<MeshType>(f.cP(0)), detail::toVec3<MeshType>(f.cP(1)),
-                       detail::toVec3<MeshType>(f.cP(2))};
-    const double a0 = angleBetween(p[1] - p[0], p[2] - p[0]) * kRadToDeg;
-    const double a1 = angleBetween(p[2] - p[1], p[0] - p[1]) * kRadToDeg;
-    const double a2 = std::max(0.0, 180.0 - a0 - a1);
-    const double a[3] = {a0, a1, a2};
-    double tmin = 180;
-    for (double x : a) {
-      if (!std::isfinite(x)) x = 0;  // a triangle too large for double arithmetic counts as degenerate
-      lo = std::min(lo, x);
-      hi = std::max(hi, x);
-      tmin = std::min(tmin, x);
-      const int bin = std::min(179, std::max(0, static_cast<int>(std::floor(x))));
-      ++s.histogram[bin];
-      below30 += x < 30.0;
-      above90 += x > 90.0;
-      ++corners;
+  long long below30 = 0, above90 = 0, corners = 0, live = 0;
+  threads = std::max(1, std::min(threads, 1024));
+#pragma omp parallel num_threads(threads) if (threads > 1 && nf >= 8192)
+  {
+    std::array<long long, 180> hist{};
+    double tlo = 180, thi = 0;
+    long long tb = 0, ta = 0, tc = 0, tl = 0;
+#pragma omp for schedule(static) nowait
+    for (long long i = 0; i < nf; ++i) {
+      const auto& f = m.face[static_cast<std::size_t>(i)];
+      if (f.IsD()) {
+        triMin[static_cast<std::size_t>(i)] = std::numeric_limits<double>::infinity();
+        continue;
+      }
+      const Vec3 p[3] = {detail::toVec3<MeshType>(f.cP(0)), detail::toVec3<MeshType>(f.cP(1)),
+                         detail::toVec3<MeshType>(f.cP(2))};
+      const double a0 = angleBetween(p[1] - p[0], p[2] - p[0]) * kRadToDeg;
+      const double a1 = angleBetween(p[2] - p[1], p[0] - p[1]) * kRadToDeg;
+      const double a2 = std::max(0.0, 180.0 - a0 - a1);
+      const double a[3] = {a0, a1, a2};
+      double tmin = 180;
+      for (double x : a) {
+        if (!std::isfinite(x)) x = 0;  // a triangle too large for double arithmetic counts as degenerate
+        tlo = std::min(tlo, x);
+        thi = std::max(thi, x);
+        tmin = std::min(tmin, x);
+        const int bin = std::min(179, std::max(0, static_cast<int>(std::floor(x))));
+        ++hist[bin];
+        tb += x < 30.0;
+        ta += x > 90.0;
+        ++tc;
+      }
+      triMin[static_cast<std::size_t>(i)] = tmin;
+      ++tl;
     }
-    triMin.push_back(tmin);
+#pragma omp critical(sodtAngleStats)
+    {
+      for (int b = 0; b < 180; ++b) s.histogram[b] += hist[b];
+      lo = std::min(lo, tlo);
+      hi = std::max(hi, thi);
+      below30 += tb;
+      above90 += ta;
+      corners += tc;
+      live += tl;
+    }
   }
-  s.faces = static_cast<long long>(triMin.size());
+  s.faces = live;
   if (s.faces == 0) return s;
   s.minDeg = lo;
   s.maxDeg = hi;
   s.fracBelow30 = double(below30) / double(corners);
   s.fracAbove90 = double(above90) / double(corners);
-  const std::size_t idx = static_cast<std::size_t>(std::floor(0.01 * double(triMin.size() - 1)));
+  const std::size_t idx = static_cast<std::size_t>(std::floor(0.01 * double(live - 1)));
   std::nth_element(triMin.begin(), triMin.begin() + idx, triMin.end());
   s.p1TriMinDeg = triMin[idx];
   return s;
@@ -517,9 +544,10 @@ AngleStats computeAngleStats(const MeshType& m) {
 /// traverse it in opposite directions (closed, manifold along edges, oriented):
 /// no directed edge a->b occurs twice, and each has its reverse b->a. The
 /// directed edges are bucketed by their first vertex, so the test is linear
-/// in the faces (times the valence), without sorting them all.
+/// in the faces (times the valence), without sorting them all. The buckets
+/// are sorted and checked on threads threads.
 template <class MeshType>
-bool isClosedOriented(const MeshType& m) {
+bool isClosedOriented(const MeshType& m, int threads = 1) {
   if (m.vert.empty()) return false;
   const std::size_t nv = m.vert.size();
   std::vector<int> begin(nv + 1, 0);
@@ -538,25 +566,33 @@ bool isClosedOriented(const MeshType& m) {
     for (int j = 0; j < 3; ++j)
       to[fill[f.cV(j) - &m.vert[0]]++] = static_cast<int>(f.cV((j + 1) % 3) - &m.vert[0]);
   }
-  for (std::size_t a = 0; a < nv; ++a) {
+  threads = std::max(1, std::min(threads, 1024));
+  const long long n = static_cast<long long>(nv);
+  bool twice = false;  // a directed edge occurs twice
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(|| : twice) if (threads > 1 && n >= 8192)
+  for (long long a = 0; a < n; ++a) {
     const auto first = to.begin() + begin[a], last = to.begin() + begin[a + 1];
     std::sort(first, last);
-    if (std::adjacent_find(first, last) != last) return false;
+    twice = twice || std::adjacent_find(first, last) != last;
   }
-  for (std::size_t a = 0; a < nv; ++a)
-    for (int k = begin[a]; k < begin[a + 1]; ++k) {
+  if (twice) return false;
+  bool unpaired = false;  // a directed edge without its reverse
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(|| : unpaired) if (threads > 1 && n >= 8192)
+  for (long long a = 0; a < n; ++a)
+    for (int k = begin[a]; k < begin[a + 1] && !unpaired; ++k) {
       const int b = to[k];
-      if (!std::binary_search(to.begin() + begin[b], to.begin() + begin[b + 1], static_cast<int>(a))) return false;
+      unpaired = !std::binary_search(to.begin() + begin[b], to.begin() + begin[b + 1], static_cast<int>(a));
     }
-  return true;
+  return !unpaired;
 }
 
 /// Enclosed volume by the divergence theorem, in double, relative to the
-/// bounding-box centre to limit cancellation.
+/// bounding-box centre to limit cancellation. threads: for the closedness
+/// test (the sum is serial, so the volume is the same for any number).
 template <class MeshType>
-VolumeResult enclosedVolume(const MeshType& m) {
+VolumeResult enclosedVolume(const MeshType& m, int threads = 1) {
   VolumeResult r;
-  r.closed = isClosedOriented(m);
+  r.closed = isClosedOriented(m, threads);
   if (!r.closed) return r;
   Vec3 lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
           std::numeric_limits<double>::max());
@@ -646,25 +682,34 @@ double hausdorffRel(const MeshA& a, const MeshB& b) {
 /// Number of faces whose normal turned by more than 90 degrees relative to
 /// the same face of ref, or that collapsed to zero area while the reference
 /// face had area. Returns -1 when the face lists do not correspond (different
-/// sizes or vertex indices).
+/// sizes or vertex indices). Counts on threads threads.
 template <class MeshType, class RefType>
-long long countInvertedFaces(const MeshType& m, const RefType& ref) {
+long long countInvertedFaces(const MeshType& m, const RefType& ref, int threads = 1) {
   if (m.face.size() != ref.face.size() || m.vert.size() != ref.vert.size()) return -1;
   long long n = 0;
-  for (std::size_t i = 0; i < m.face.size(); ++i) {
-    const auto& f = m.face[i];
-    const auto& g = ref.face[i];
-    if (f.IsD() || g.IsD()) continue;
-    for (int j = 0; j < 3; ++j)
-      if (f.cV(j) - &m.vert[0] != g.cV(j) - &ref.vert[0]) return -1;
-    const Vec3 nf = doubleAreaVector(detail::toVec3<MeshType>(f.cP(0)), detail::toVec3<MeshType>(f.cP(1)),
-                                     detail::toVec3<MeshType>(f.cP(2)));
-    const Vec3 ng = doubleAreaVector(detail::toVec3<RefType>(g.cP(0)), detail::toVec3<RefType>(g.cP(1)),
-                                     detail::toVec3<RefType>(g.cP(2)));
-    const double dot = nf * ng;
-    if (dot < 0 || (nf.SquaredNorm() == 0 && ng.SquaredNorm() > 0)) ++n;
+  bool differ = false;
+  const long long nf = static_cast<long long>(m.face.size());
+  threads = std::max(1, std::min(threads, 1024));
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : n) reduction(|| : differ) \
+    if (threads > 1 && nf >= 8192)
+  for (long long i = 0; i < nf; ++i) {
+    const auto& f = m.face[static_cast<std::size_t>(i)];
+    const auto& g = ref.face[static_cast<std::size_t>(i)];
+    if (differ || f.IsD() || g.IsD()) continue;
+    bool same = true;
+    for (int j = 0; j < 3; ++j) same = same && f.cV(j) - &m.vert[0] == g.cV(j) - &ref.vert[0];
+    if (!same) {
+      differ = true;
+      continue;
+    }
+    const Vec3 nf3 = doubleAreaVector(detail::toVec3<MeshType>(f.cP(0)), detail::toVec3<MeshType>(f.cP(1)),
+                                      detail::toVec3<MeshType>(f.cP(2)));
+    const Vec3 ng3 = doubleAreaVector(detail::toVec3<RefType>(g.cP(0)), detail::toVec3<RefType>(g.cP(1)),
+                                      detail::toVec3<RefType>(g.cP(2)));
+    const double dot = nf3 * ng3;
+    if (dot < 0 || (nf3.SquaredNorm() == 0 && ng3.SquaredNorm() > 0)) ++n;
   }
-  return n;
+  return differ ? -1 : n;
 }
 
 }  // namespace sodt
