@@ -370,6 +370,8 @@ void expectSameRuns(const std::string& name, sodt::Guard guard, bool flips, int 
   p.simd = false;
   const sodt::SodtStats b = sodt::SodtSmoother<M>::Apply(without, p);
   EXPECT_EQ(counters(a), counters(b));
+  EXPECT_EQ(a.deviationQueries, b.deviationQueries);
+  EXPECT_EQ(a.deviationReused, b.deviationReused);
   EXPECT_EQ(b.laneVisits, 0);
   // Most visits go through the kernel (the others have a rare valence or are
   // left over from an incomplete group of four).
@@ -465,6 +467,11 @@ TEST(Lanes, SweepsAreTheSameWithAndWithoutTheKernel) {
   expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Fold, false, 1, 10);
   expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Quality, true, 2, 6);
   expectSameRuns<sodt::MeshF>("plane_grid_open.ply", Guard::Quality, false, 1, 6);
+  // With the bound, the kernel's accepted full steps are committed when the
+  // margins answer the deviation test; a tight bound leaves many to the
+  // scalar visit's distance queries, a loose one few.
+  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::Quality, false, 2, 10, 1e-4);
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Fold, false, 1, 10, 1e-2);
   // Without the deviation bound the kernel's accepted full steps are committed directly.
   expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::Fold, false, 1, 10, 0.0);
   expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Quality, false, 2, 10, 0.0);

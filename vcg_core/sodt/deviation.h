@@ -172,6 +172,31 @@ struct InputSurface {
     return static_cast<float>(y);
   }
 
+  /// How far the centroid of star triangle k and the midpoint of its edge
+  /// to ring vertex k can have moved since the margins were taken, the
+  /// larger of the two (see keeps); k1 is the triangle after k.
+  static double slotMove(double step, const double* drift, std::size_t k, std::size_t k1) {
+    return std::max((step + drift[k]) / 2, (step + drift[k] + drift[k1]) / 3);
+  }
+
+  /// keeps' answer for vertex v with a star of n triangles when the margins
+  /// answer every point without a distance query: then true, with next and
+  /// reused as keeps sets them. False when some point would need a query
+  /// (next may be partly written then).
+  bool keepsByMargins(int v, std::size_t n, double step, const double* drift, const Margins& last, Margins& next,
+                      long long& reused) const {
+    if (topo->kind[v] != VertexKind::Interior) return false;  // keeps answers those in no time
+    if (!(step <= last.point)) return false;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double moved = slotMove(step, drift, k, k + 1 < n ? k + 1 : 0);
+      if (!(moved <= last.slot[k])) return false;
+      next.slot[k] = floatBelow(last.slot[k] - moved);
+    }
+    next.point = floatBelow(last.point - step);
+    reused += 1 + 2 * static_cast<long long>(n);
+    return true;
+  }
+
   /// True when, with vertex v (the centre of st) at p, p and the centroids
   /// and edge midpoints of the star's triangles at p lie within
   /// sqrt(limit2) of v's input patch. Where the input is locally flat, the
@@ -217,7 +242,7 @@ struct InputSurface {
     }
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t k1 = k + 1 < n ? k + 1 : 0;
-      const double moved = std::max((step + drift[k]) / 2, (step + drift[k] + drift[k1]) / 3);
+      const double moved = slotMove(step, drift, k, k1);
       if (moved <= last.slot[k]) {
         reused += 2;
         next.slot[k] = floatBelow(last.slot[k] - moved);

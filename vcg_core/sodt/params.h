@@ -69,10 +69,14 @@ struct SodtParams {
   /// short to use that margin up. The results are the same either way.
   bool reuseDeviationMargins = true;
   /// Performance only: Algorithm 1 sweeps solve four vertices at once in
-  /// AVX2 lanes when the processor has them (see lanes.h); the guards then
-  /// check each vertex's move as usual, except that without the deviation
-  /// bound (maxDeviationRel 0) the lanes also test the full step under the
-  /// fold and angle guard and commit it when it passes. Every algorithm's
+  /// AVX2 lanes when the processor has them (see lanes.h), and test the
+  /// full step under the fold and angle guard there too (without the
+  /// deviation bound, only for groups whose vertices mostly moved by their
+  /// full step at their last visit). A step that passes
+  /// is committed with no scalar work when nothing else is to be tested: no
+  /// deviation bound, or margins of the vertex's last move that cover every
+  /// point the deviation guard checks (reuseDeviationMargins); every other
+  /// visit is guarded one vertex at a time as usual. Every algorithm's
   /// guard tests the shortened steps of a visit four lengths at once. The
   /// quality measured after each sweep for keepBest and toleranceDeg takes
   /// four faces at once too. The results are the same bit for bit either way.

@@ -258,13 +258,13 @@ struct SodtSmoother {
     // Algorithm 1: the 4-lane kernel when the processor has it.
     const bool useLanes = p.simd && p.algorithm == Algorithm::Basic &&
                           lanes::available() && nv < std::numeric_limits<int>::max() / 3;
-    // Without the deviation bound, the kernel also tests the full step under
-    // the fold and angle guard (when the mesh stores float or double
-    // coordinates, what representable() rounds to), and an accepted step is
-    // committed with no scalar work. With the bound, each accepted step
-    // needs the scalar star for the distance test anyway, and testing it in
-    // the kernel saved less than it cost.
-    const bool laneGuard = useLanes && p.guard != Guard::None && !deviationGuard &&
+    // The kernel also tests the full step under the fold and angle guard
+    // (when the mesh stores float or double coordinates, what
+    // representable() rounds to), and an accepted step is committed with no
+    // scalar work: without the deviation bound always, with it when the
+    // margins of the vertex's last move cover every checked point (see
+    // laneKeeps), as they do for most full steps.
+    const bool laneGuard = useLanes && p.guard != Guard::None && (!deviationGuard || p.reuseDeviationMargins) &&
                            (std::is_same<ScalarType, float>::value || std::is_same<ScalarType, double>::value);
     // Guarded visits of the kernel's vertices take what prepareGuard
     // computes from the kernel too, which has the star in its lanes already.
@@ -277,6 +277,11 @@ struct SodtSmoother {
     }
     LanePlan lanePlan = useLanes ? planLanes(plan, topo, laneGuard) : LanePlan();
     const bool prefetchFaces = p.guard != Guard::None && !faceNormal.empty();
+    const bool laneMargins = laneGuard && deviationGuard;
+    // Without the deviation bound the kernel's full-step test pays only when
+    // most lanes pass it (see kLikelyLanes); with it, a lane that passes
+    // usually saves a whole scalar visit, so every group is tested.
+    const int likelyNeeded = laneMargins ? 0 : kLikelyLanes;
     int phase = 0;  // colours swept so far, over all sweeps
     // A guarded visit costs from one test to a dozen (a rejected one tries
     // every step length twice), and a thread can be held up: the threads
@@ -305,6 +310,32 @@ struct SodtSmoother {
           lastOutcome[i] = o;
           if (moves(o)) movedAt[i] = phase;
         };
+        // The deviation guard's view of vertex i's margins (see Budget).
+        const auto prepareBudget = [&](int i, Scratch& sc, Budget& budget) {
+          const int b = topo.ringBegin[i], e = topo.ringBegin[i + 1];
+          // Path lengths grow by rounding too: a margin of 1e-12 of them.
+          const double eps = 1e-12 * (odo[i] + input.limit);
+          sc.drift.resize(e - b);  // within the reserved size
+          for (int k = b; k < e; ++k) {
+            const double o = odo[topo.ringIdx[k]];
+            sc.drift[k - b] = o - slotOdo[k] + 1e-12 * o + eps;
+          }
+          sc.nextSlot.resize(e - b);
+          budget.drift = sc.drift.data();
+          budget.eps = eps;
+          budget.last.point = pointMargin[i];
+          budget.last.slot = slotMargin.data() + b;
+          budget.next.slot = sc.nextSlot.data();
+        };
+        // Keeps the margins of vertex i's accepted move from `from`.
+        const auto commitMargins = [&](int i, const Vec3& from, const Budget& budget) {
+          odo[i] += (pos[i] - from).Norm();
+          pointMargin[i] = budget.next.point;
+          for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k) {
+            slotMargin[k] = budget.next.slot[k - topo.ringBegin[i]];
+            slotOdo[k] = InputSurface::floatBelow(odo[topo.ringIdx[k]]);
+          }
+        };
         // Visits vertex i, with its proposal when one was computed already;
         // false when the visit was answered from the previous one.
         const auto visitOne = [&](int i, Scratch& sc, const Proposal* given, FullStep full) {
@@ -323,34 +354,29 @@ struct SodtSmoother {
           }
           int* hints = deviationGuard ? slotHint.data() + b : nullptr;
           Budget budget;
-          if (deviationGuard) {
-            // Path lengths grow by rounding too: a margin of 1e-12 of them.
-            const double eps = 1e-12 * (odo[i] + input.limit);
-            sc.drift.resize(e - b);
-            for (int k = b; k < e; ++k) {
-              const double o = odo[topo.ringIdx[k]];
-              sc.drift[k - b] = o - slotOdo[k] + 1e-12 * o + eps;
-            }
-            sc.nextSlot.resize(e - b);
-            budget.drift = sc.drift.data();
-            budget.eps = eps;
-            budget.last.point = pointMargin[i];
-            budget.last.slot = slotMargin.data() + b;
-            budget.next.slot = sc.nextSlot.data();
-          }
+          if (deviationGuard) prepareBudget(i, sc, budget);
           const Vec3 from = pos[i];
           const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, budget, pos[i], given, full);
           sc.queried += budget.queried;
           sc.reused += budget.reused;
           record(i, o, sc);
-          if (moves(o) && deviationGuard && p.reuseDeviationMargins) {
-            odo[i] += (pos[i] - from).Norm();
-            pointMargin[i] = budget.next.point;
-            for (int k = b; k < e; ++k) {
-              slotMargin[k] = sc.nextSlot[k - b];
-              slotOdo[k] = InputSurface::floatBelow(odo[topo.ringIdx[k]]);
-            }
-          }
+          if (moves(o) && deviationGuard && p.reuseDeviationMargins) commitMargins(i, from, budget);
+          return true;
+        };
+        // When the margins of vertex i's last move answer the deviation test
+        // of its move to y with no distance query, commits the move as the
+        // visit would (InputSurface::keepsByMargins); false, with nothing
+        // changed, otherwise: the visit then runs in full.
+        const auto laneKeeps = [&](int i, const Vec3& y, Scratch& sc) {
+          Budget budget;
+          prepareBudget(i, sc, budget);
+          const double step = (y - pos[i]).Norm() + budget.eps;
+          if (!input.keepsByMargins(i, sc.drift.size(), step, budget.drift, budget.last, budget.next, sc.reused))
+            return false;
+          const Vec3 from = pos[i];
+          pos[i] = y;
+          record(i, Outcome::Moved, sc);
+          commitMargins(i, from, budget);
           return true;
         };
         if (useLanes) {
@@ -368,6 +394,15 @@ struct SodtSmoother {
               const int* table = lanePlan.table.data() + lanePlan.tableBegin[ahead];
               const int entries = lanes::kWidth * (lanePlan.valence[ahead] + 1);
               for (int e = 0; e < entries; ++e) __builtin_prefetch(&pos[0][0] + table[e]);
+              // The deviation guard's margins and path lengths.
+              if (laneMargins) {
+                for (int e = 0; e < entries; ++e) __builtin_prefetch(&odo[table[e] / 3]);
+                const int* va = lanePlan.vertex.data() + lanes::kWidth * ahead;
+                for (int l = 0; l < lanes::kWidth; ++l) {
+                  __builtin_prefetch(&slotMargin[topo.ringBegin[va[l]]]);
+                  __builtin_prefetch(&slotOdo[topo.ringBegin[va[l]]]);
+                }
+              }
               // The guard reads the input normals of the ring's faces.
               if (prefetchFaces) {
                 const int* va = lanePlan.vertex.data() + lanes::kWidth * ahead;
@@ -379,33 +414,41 @@ struct SodtSmoother {
 #endif
             const int* vs = lanePlan.vertex.data() + lanes::kWidth * g;
             lanes::Targets t;
-            // The full-step test pays when most lanes will pass it: when
-            // most moved by their full step at their last visit.
+            // The full-step test (see likelyNeeded).
             int likely = 0;
             if (laneGuard)
               for (int l = 0; l < lanes::kWidth; ++l) likely += lastOutcome[vs[l]] == Outcome::Moved;
             lanes::StepVerdict v;
             lanes::targets4(&pos[0][0], lanePlan.table.data() + lanePlan.tableBegin[g], lanePlan.valence[g], t,
-                            lanePrepare ? &laneGuardInput : nullptr, likely >= kLikelyLanes ? &v : nullptr,
+                            lanePrepare ? &laneGuardInput : nullptr, likely >= likelyNeeded ? &v : nullptr,
                             lanePrepare ? &sc.prepared : nullptr);
-            if (likely < kLikelyLanes) v.allowed = v.refused = 0;
+            if (likely < likelyNeeded) v.allowed = v.refused = 0;
             for (int l = 0; l < lanes::kWidth; ++l) {
               const int i = vs[l];
               const bool ok = (t.ok >> l & 1) != 0;
               if (p.guard != Guard::None) {
                 if (v.allowed >> l & 1) {
-                  // Nothing else to test (laneGuard: no deviation bound): the
-                  // visit moves the vertex by the full step. It cannot be one
-                  // still() would answer: that visit, on the same star, did
-                  // not move the vertex.
-                  pos[i] = Vec3(v.x[l], v.y[l], v.z[l]);
-                  record(i, Outcome::Moved, sc);
-                  ++sc.laneVisits;
-                  continue;
+                  // The visit moves the vertex by the full step when nothing
+                  // else is to be tested: no deviation bound, or margins that
+                  // answer it. It cannot be one still() would answer: that
+                  // visit, on the same star with the same margins, did not
+                  // move the vertex.
+                  const Vec3 y(v.x[l], v.y[l], v.z[l]);
+                  if (!deviationGuard) {
+                    pos[i] = y;
+                    record(i, Outcome::Moved, sc);
+                    ++sc.laneVisits;
+                    continue;
+                  }
+                  if (laneKeeps(i, y, sc)) {
+                    ++sc.laneVisits;
+                    continue;
+                  }
                 }
                 FullStep full;
                 full.prepared = &sc.prepared;
                 full.lane = l;
+                full.allowed = (v.allowed >> l & 1) != 0;
                 if (v.refused >> l & 1) {
                   full.refused = true;
                   full.first = v.first[l];
@@ -658,8 +701,9 @@ struct SodtSmoother {
     }
   };
 
-  /// The kernel tests the full steps of a group of lanes when at least this
-  /// many of them moved by their full step at their last visit.
+  /// Without the deviation bound, the kernel tests the full steps of a group
+  /// of lanes when at least this many of them moved by their full step at
+  /// their last visit.
   static constexpr int kLikelyLanes = 3;
 
   /// Colours with fewer vertices than this are swept by one thread: starting
@@ -706,6 +750,7 @@ struct SodtSmoother {
   struct FullStep {
     bool refused = false;  ///< moveAllowed refuses the full step
     int first = 0;         ///< then the first triangle that fails
+    bool allowed = false;  ///< moveAllowed accepts the full step
     /// When not null, prepareGuard's results are lane `lane` of this.
     const lanes::Prepared* prepared = nullptr;
     int lane = 0;
@@ -714,8 +759,8 @@ struct SodtSmoother {
   /// Tries the step from the centre towards target, shortened by halvings,
   /// under the guard. Returns the number of halvings used, -1 when every
   /// length was vetoed, -2 when the step rounds to no move at all. witness:
-  /// see moveAllowed, shared by the calls of one visit. fullRefused: the
-  /// full step is known to fail moveAllowed.
+  /// see moveAllowed, shared by the calls of one visit. fullRefused
+  /// (fullAllowed): the full step is known to fail (pass) moveAllowed.
   ///
   /// The lengths are taken in order and the first that passes is
   /// committed. With c.lengthLanes, the shortened steps go through
@@ -724,7 +769,8 @@ struct SodtSmoother {
   /// would one by one.
   static int tryStep(const Context& c, int i, const Star& star, int* hints, const std::vector<Vec3>& foldRef,
                      const std::vector<double>& ringEdge2, const Vec3& target, double minAngleCos2Before,
-                     int& pointHint, Budget& budget, int& witness, Vec3& x, bool fullRefused = false) {
+                     int& pointHint, Budget& budget, int& witness, Vec3& x, bool fullRefused = false,
+                     bool fullAllowed = false) {
     const SodtParams& p = c.p;
     const bool quality = p.guard == Guard::Quality;
     const Vec3 step = target - star.center;
@@ -751,7 +797,9 @@ struct SodtSmoother {
         yj[m++] = j;
       }
       int pass = 0;
-      if (m == 1) {
+      if (m == 1 && yj[0] == 0 && fullAllowed) {
+        pass = 1;
+      } else if (m == 1) {
         pass = moveAllowed(star, y[0], foldRef, ringEdge2, quality, minAngleCos2Before, &witness) ? 1 : 0;
       } else if (m > 1) {
         pass = lanes::allowedAt(star.ring.data(), static_cast<int>(star.size()), foldRef.data(), ringEdge2.data(),
@@ -962,7 +1010,7 @@ struct SodtSmoother {
     }
     int witness = full.refused ? full.first : 0;
     const int r = tryStep(c, i, star, hints, sc.foldRef, sc.ringEdge2, pr.target, before, pointHint, budget, witness,
-                          x, full.refused);
+                          x, full.refused, full.allowed);
     if (r == 0) return Outcome::Moved;
     if (r > 0) return Outcome::Backtracked;
     if (p.laplacianFallback) {
