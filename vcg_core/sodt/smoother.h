@@ -255,8 +255,9 @@ struct SodtSmoother {
     int maxValence = 0;
     for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
     for (Scratch& s : scratch) s.reserve(maxValence);
-    // Algorithm 1: the 4-lane kernel when the processor has it.
-    const bool useLanes = p.simd && p.algorithm == Algorithm::Basic &&
+    // Algorithm 1, and the smooth vertices of Algorithm 2 (whose update is
+    // Algorithm 1's): the 4-lane kernel when the processor has it.
+    const bool useLanes = p.simd && (p.algorithm == Algorithm::Basic || p.algorithm == Algorithm::Feature) &&
                           lanes::available() && nv < std::numeric_limits<int>::max() / 3;
     // The kernel also tests the full step under the fold and angle guard
     // (when the mesh stores float or double coordinates, what
@@ -275,7 +276,7 @@ struct SodtSmoother {
       laneGuardInput.quality = p.guard == Guard::Quality;
       laneGuardInput.roundToFloat = std::is_same<ScalarType, float>::value;
     }
-    LanePlan lanePlan = useLanes ? planLanes(plan, topo, laneGuard) : LanePlan();
+    LanePlan lanePlan = useLanes ? planLanes(plan, topo, cls.cls, laneGuard) : LanePlan();
     const bool prefetchFaces = p.guard != Guard::None && !faceNormal.empty();
     const bool laneMargins = laneGuard && deviationGuard;
     // Without the deviation bound the kernel's full-step test pays only when
@@ -524,7 +525,7 @@ struct SodtSmoother {
           stats.flips += flipped;
           topo = buildRingTopology(faces, deleted);
           plan = colourVertices(topo, active);
-          if (useLanes) lanePlan = planLanes(plan, topo, laneGuard);
+          if (useLanes) lanePlan = planLanes(plan, topo, cls.cls, laneGuard);
           for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
           for (Scratch& s : scratch) s.reserve(maxValence);
           std::fill(lastVisit.begin(), lastVisit.end(), -1);  // stars changed: visit everything again
@@ -944,8 +945,11 @@ struct SodtSmoother {
   /// gathers otherwise (a fifth of an unguarded sweep at 1M vertices).
   static constexpr int kPrefetchGroups = 4;
 
-  /// withFaces: the tables get the face rows of the full-step test.
-  static LanePlan planLanes(const SweepPlan& plan, const RingTopology& topo, bool withFaces) {
+  /// Only smooth vertices (cls) go into groups: the kernel computes
+  /// Algorithm 1's update, which is theirs with Algorithms 1 and 2. withFaces:
+  /// the tables get the face rows of the full-step test.
+  static LanePlan planLanes(const SweepPlan& plan, const RingTopology& topo, const std::vector<VertexClass>& cls,
+                            bool withFaces) {
     LanePlan lp;
     const std::size_t colours = plan.colourBegin.size() - 1;
     lp.vertex.reserve(plan.order.size());
@@ -957,7 +961,7 @@ struct SodtSmoother {
     for (std::size_t c = 0; c < colours; ++c) {
       for (int j = plan.colourBegin[c]; j < plan.colourBegin[c + 1]; ++j) {
         const int v = plan.order[j], n = topo.ringSize(v);
-        if (n < 3 || n > lanes::kMaxValence) {
+        if (n < 3 || n > lanes::kMaxValence || cls[v] != VertexClass::Smooth) {
           lp.rest.push_back(v);
           continue;
         }
