@@ -118,6 +118,9 @@ struct SodtSmoother {
     const int threads = resolveThreads(p.threads);
     stats.threads = threads;
     Classification cls;
+    // Denoise: the input projected once on its fitted planes, which both the
+    // classification and the first of the fits' projection passes use.
+    std::vector<Vec3> projected;
     if (p.algorithm == Algorithm::Basic || p.algorithm == Algorithm::Odt || p.algorithm == Algorithm::Laplacian) {
       cls.cls.assign(nv, VertexClass::Fixed);  // no crease directions: there are no creases
       for (int i = 0; i < nv; ++i) {
@@ -131,7 +134,8 @@ struct SodtSmoother {
       // Noise turns single spikes into false corners and creases: classify the
       // input after projecting every vertex on its fitted plane (a vertex on a
       // true crease or corner has too few agreeing neighbours to fit and stays).
-      cls = classifyRings(topo, projectOnFittedPlanes(topo, pos, threads), meanEdge, p.epsilon, p.eta, threads);
+      projected = projectOnFittedPlanes(topo, pos, threads);
+      cls = classifyRings(topo, projected, meanEdge, p.epsilon, p.eta, threads);
     }
     stats.smoothVertices = cls.smooth();
     stats.creaseVertices = cls.crease();
@@ -172,8 +176,9 @@ struct SodtSmoother {
       // fitted to raw noisy neighbours keeps about half the noise, one fitted
       // to pre-smoothed neighbours much less. Crease lines use the input, whose
       // crease vertices the projections leave (nearly) in place anyway.
-      std::vector<Vec3> src = pos;
-      for (int k = 0; k < kDenoisePrePasses; ++k) src = projectOnFittedPlanes(topo, src, threads);
+      static_assert(kDenoisePrePasses >= 1, "the first pass is the classification's");
+      std::vector<Vec3> src = std::move(projected);
+      for (int k = 1; k < kDenoisePrePasses; ++k) src = projectOnFittedPlanes(topo, src, threads);
       const std::vector<Vec3> nrm = vertexNormals(topo, src, threads);
       const long na = static_cast<long>(active.size());
 #ifdef _OPENMP
