@@ -121,6 +121,90 @@ TEST(Lanes, KernelMatchesTheScalarSolveBitForBit) {
   EXPECT_GT(failed, 10000);
 }
 
+TEST(Lanes, DenoiseKernelMatchesTheScalarSolveBitForBit) {
+  // Algorithm 3's targets (denoiseTargets): random stars, degenerate ones
+  // included, each with a fitted plane near its centre whose normal is the
+  // star's own, a tilted one or any direction, and bounds on the move along
+  // it that cut the targets or do not.
+  if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
+  using sodt_test::uniform;
+  std::mt19937 g(5151);
+  int solved = 0, failed = 0, bounded = 0, mismatches = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int n = 3 + trial % (sodt::lanes::kMaxValence - 2);
+    std::vector<Vec3> pos;
+    std::vector<int> ringIdx, begin, centre;
+    std::vector<sodt::Star> stars(sodt::lanes::kWidth);
+    for (int l = 0; l < sodt::lanes::kWidth; ++l) {
+      const Kind kind = static_cast<Kind>(g() % static_cast<unsigned>(Kind::Count));
+      const std::vector<Vec3> pts = makeStar(kind, n, g);
+      centre.push_back(static_cast<int>(pos.size()));
+      begin.push_back(static_cast<int>(ringIdx.size()));
+      for (int k = 0; k < n; ++k) ringIdx.push_back(static_cast<int>(pos.size()) + 1 + k);
+      pos.insert(pos.end(), pts.begin(), pts.end());
+      stars[l].center = pts[0];
+      stars[l].ring.assign(pts.begin() + 1, pts.end());
+    }
+    // Frames per vertex, laid out as the smoother's (point and unit normal).
+    std::vector<sodt::FittedFrame> frame(pos.size());
+    double size = 0;
+    for (const sodt::Star& st : stars)
+      for (const Vec3& q : st.ring) size = std::max(size, (q - st.center).Norm());
+    for (int l = 0; l < sodt::lanes::kWidth; ++l) {
+      const sodt::Star& st = stars[l];
+      Vec3 dir = sodt::starNormal(st);
+      const int r = static_cast<int>(g() % 3);
+      const Vec3 any(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1));
+      if (r == 1 || dir.SquaredNorm() == 0) dir = dir + any * 0.3;
+      if (r == 2) dir = any;
+      if (dir.SquaredNorm() == 0) dir = Vec3(0, 0, 1);
+      dir.Normalize();
+      sodt::FittedFrame& f = frame[centre[l]];
+      f.ok = true;
+      f.dir = dir;
+      f.point = st.center + Vec3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1)) * (0.2 * size);
+    }
+    sodt::lanes::DenoiseInput in;
+    in.point = &frame[0].point[0];
+    in.dir = &frame[0].dir[0];
+    in.stride = static_cast<int>(sizeof(sodt::FittedFrame) / sizeof(double));
+    in.lim = g() % 2 ? 1e300 : size * std::pow(10.0, uniform(g, -4, 0));
+    sodt::lanes::Targets t;
+    std::vector<int> table(sodt::lanes::kWidth * (n + 1));
+    sodt::lanes::packGroup(centre.data(), ringIdx.data(), begin.data(), n, table.data());
+    sodt::lanes::targets4(&pos[0][0], table.data(), n, t, nullptr, nullptr, nullptr, &in);
+    for (int l = 0; l < sodt::lanes::kWidth; ++l) {
+      const sodt::Star& st = stars[l];
+      const sodt::FittedFrame& f = frame[centre[l]];
+      const Vec3 nrm = sodt::starNormal(st);
+      Vec3 target(0, 0, 0), fallback(0, 0, 0);
+      // As the smoother's propose(): no move without a tangent plane.
+      const bool want = nrm.SquaredNorm() != 0 && sodt::denoiseTargets(st, f.point, f.dir, in.lim, target, fallback);
+      const bool ok = (t.ok >> l & 1) != 0;
+      (want ? solved : failed)++;
+      if (want) {
+        Vec3 unbounded(0, 0, 0), dummy(0, 0, 0);
+        sodt::denoiseTargets(st, f.point, f.dir, 1e300, unbounded, dummy);
+        bounded += !(unbounded == target);
+      }
+      const bool same = sameBits(t.x[l], target[0]) && sameBits(t.y[l], target[1]) && sameBits(t.z[l], target[2]) &&
+                        sameBits(t.fx[l], fallback[0]) && sameBits(t.fy[l], fallback[1]) &&
+                        sameBits(t.fz[l], fallback[2]) && sameBits(t.nx[l], nrm[0]) && sameBits(t.ny[l], nrm[1]) &&
+                        sameBits(t.nz[l], nrm[2]);
+      if (ok != want || (ok && !same)) {
+        if (++mismatches <= 5)
+          ADD_FAILURE() << "trial " << trial << " lane " << l << ": kernel ok " << ok << " (" << t.x[l] << ", " << t.y[l]
+                        << ", " << t.z[l] << "), scalar ok " << want << " (" << target[0] << ", " << target[1]
+                        << ", " << target[2] << ")";
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(solved, 20000);
+  EXPECT_GT(failed, 5000);
+  EXPECT_GT(bounded, 5000);  // the bound along the normal was applied often
+}
+
 TEST(Lanes, FullStepVerdictMatchesTheScalarGuardBitForBit) {
   if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
   using sodt_test::uniform;
@@ -506,6 +590,21 @@ TEST(Lanes, FeatureSweepsAreTheSameWithAndWithoutTheKernel) {
   p.algorithm = Algorithm::Feature;
   p.iterations = 1;
   EXPECT_GT(sodt::SodtSmoother<sodt::MeshD>::Apply(m, p).creaseVertices, 0);
+}
+
+TEST(Lanes, DenoiseSweepsAreTheSameWithAndWithoutTheKernel) {
+  // Algorithm 3's smooth vertices with a fitted plane go through the kernel
+  // (denoiseTargets in the lanes), its crease vertices through the scalar visit.
+  if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
+  using sodt::Algorithm;
+  using sodt::Guard;
+  const double bound = sodt::SodtParams().maxDeviationRel;  // not used by Algorithm 3
+  expectSameRuns<sodt::MeshF>("cube_noisy.ply", Guard::Quality, false, 1, 10, bound, Algorithm::Denoise);
+  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Quality, false, 2, 10, bound, Algorithm::Denoise);
+  expectSameRuns<sodt::MeshD>("cube_jitter.ply", Guard::Fold, true, 2, 6, bound, Algorithm::Denoise);
+  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::Quality, false, 2, 10, bound, Algorithm::Denoise);
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::None, false, 1, 6, bound, Algorithm::Denoise);
+  expectSameRuns<sodt::MeshF>("torus.off", Guard::Fold, false, 1, 10, bound, Algorithm::Denoise);
 }
 
 TEST(Lanes, EveryAlgorithmIsTheSameWithAndWithoutTheStepLengthTest) {

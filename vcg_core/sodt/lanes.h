@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The Algorithm 1 target (tangent plane of Eq. 4, minimiser of Eq. 5) for
-// four vertices at once, one per AVX2 lane, and the move guard's test of
-// the full step to it; and the guard's test of up to four step lengths of
-// one vertex at once (allowedAt). Every lane performs the operations of starNormal,
-// solveStar, prepareGuard and moveAllowed (local_solve.h) in the same
-// order, with no fused multiply-add, so each lane's result is bit for bit
-// the one the scalar code gives. Builds without x86 GCC/Clang, or with SODT_NO_LANES
+// four vertices at once, one per AVX2 lane, or Algorithm 3's (the minimiser
+// on each vertex's fitted plane), and the move guard's test of the full
+// step to it; and the guard's test of up to four step lengths of one vertex
+// at once (allowedAt). Every lane performs the operations of starNormal,
+// solveStar (or denoiseTargets), prepareGuard and moveAllowed (local_solve.h)
+// in the same order, with no fused multiply-add, so each lane's result is
+// bit for bit the one the scalar code gives. Builds without x86 GCC/Clang, or with SODT_NO_LANES
 // defined, have no kernel and use the scalar code.
 #pragma once
 
@@ -31,11 +32,24 @@ constexpr int kMaxValence = 12;
 /// Output of targets4.
 struct Targets {
   double x[kWidth], y[kWidth], z[kWidth];
+  /// With a DenoiseInput: the fallback of denoiseTargets, when ok.
+  double fx[kWidth], fy[kWidth], fz[kWidth];
   /// The unit normal of the tangent plane (starNormal), when ok.
   double nx[kWidth], ny[kWidth], nz[kWidth];
   /// Bit l set: lane l's solve succeeded (solveStar's ok) and its target is
   /// (x[l], y[l], z[l]); clear: the solve failed and the target is unset.
   int ok = 0;
+};
+
+/// What targets4 needs to compute Algorithm 3's move of smooth vertices
+/// instead of Algorithm 1's (denoiseTargets in local_solve.h): vertex v's
+/// fitted plane has its point's x, y, z at point + stride * v and its unit
+/// normal's at dir + stride * v; lim bounds the move along that normal.
+struct DenoiseInput {
+  const double* point = nullptr;
+  const double* dir = nullptr;
+  int stride = 0;
+  double lim = 0;
 };
 
 /// What targets4 needs to test the full step of each lane under the move
@@ -305,37 +319,25 @@ SODT_LANES_TARGET inline void guardN(const V3& c, const V3* P, const V3* X, cons
 }  // namespace detail
 
 namespace detail {
-/// targets4 for valence n, known at compile time so that the loops unroll.
-template <int n>
-SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targets& out, const GuardInput* guard,
-                                       StepVerdict* verdict, Prepared* prepared) {
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-  const V3 c = gather(pos, table);
-
-  // The ring relative to the centre, and the area-weighted normal (starNormal).
-  V3 P[n], X[n];
-  for (int k = 0; k < n; ++k) {
-    P[k] = gather(pos, table + kWidth * (k + 1));
-    X[k] = sub(P[k], c);
-  }
-  V3 sum{zero, zero, zero};
-  for (int k = 0; k < n; ++k) {
-    const V3 a = cross(X[k], X[k + 1 < n ? k + 1 : 0]);
-    sum = V3{add(sum.x, a.x), add(sum.y, a.y), add(sum.z, a.z)};
-  }
-  const __m256d len = _mm256_sqrt_pd(dot(sum, sum));
-  __m256d ok = _mm256_and_pd(_mm256_cmp_pd(len, zero, _CMP_GT_OQ), finite(len));
-  const V3 nrm = scale(sum, _mm256_div_pd(one, len));
-  ok = _mm256_and_pd(ok, _mm256_cmp_pd(dot(nrm, nrm), zero, _CMP_NEQ_UQ));
-
-  // tangentFrame: s = n x e with e the axis least aligned with n, normalised; t = n x s.
+/// tangentFrame's s for the unit normal nrm: nrm x e with e the axis least
+/// aligned with nrm, normalised (t is nrm x s).
+SODT_LANES_TARGET inline V3 frameS(const V3& nrm) {
+  const __m256d one = _mm256_set1_pd(1.0);
   const __m256d ax = absv(nrm.x), ay = absv(nrm.y), az = absv(nrm.z);
   const __m256d pickX = _mm256_and_pd(_mm256_cmp_pd(ax, ay, _CMP_LE_OQ), _mm256_cmp_pd(ax, az, _CMP_LE_OQ));
   const __m256d pickY = _mm256_andnot_pd(pickX, _mm256_cmp_pd(ay, az, _CMP_LE_OQ));
   const __m256d pickZ = _mm256_andnot_pd(_mm256_or_pd(pickX, pickY), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
   const V3 e{_mm256_and_pd(pickX, one), _mm256_and_pd(pickY, one), _mm256_and_pd(pickZ, one)};
-  V3 s = cross(nrm, e);
-  s = scale(s, _mm256_div_pd(one, _mm256_sqrt_pd(dot(s, s))));
+  const V3 s = cross(nrm, e);
+  return scale(s, _mm256_div_pd(one, _mm256_sqrt_pd(dot(s, s))));
+}
+
+/// solveStar's target for the lanes' stars (centre c, ring X relative to
+/// it) on the plane of normal nrm; clears the lanes of ok where it fails.
+template <int n>
+SODT_LANES_TARGET inline V3 solveN(const V3& c, const V3* X, const V3& nrm, __m256d& ok) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const V3 s = frameS(nrm);
   const V3 t = cross(nrm, s);
 
   // sodtCoefficients.
@@ -371,6 +373,131 @@ SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targ
   const V3 target{add(add(c.x, mul(s.x, u)), mul(t.x, v)), add(add(c.y, mul(s.y, u)), mul(t.y, v)),
                   add(add(c.z, mul(s.z, u)), mul(t.z, v))};
   ok = _mm256_and_pd(ok, _mm256_and_pd(finite(target.x), _mm256_and_pd(finite(target.y), finite(target.z))));
+  return target;
+}
+
+SODT_LANES_TARGET inline V3 add(const V3& a, const V3& b) { return V3{add(a.x, b.x), add(a.y, b.y), add(a.z, b.z)}; }
+
+/// StarQuadratic::quad(a, b) for the lanes.
+SODT_LANES_TARGET inline __m256d quad(const __m256d (*Q)[3], const __m256d* a, const __m256d* b) {
+  __m256d r = _mm256_setzero_pd();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r = add(r, mul(mul(a[i], Q[i][j]), b[j]));
+  return r;
+}
+
+/// boundNormalStep for the lanes.
+SODT_LANES_TARGET inline V3 boundNormalStep(const V3& x, const V3& c, const V3& dir, __m256d lim) {
+  const __m256d h = dot(sub(x, c), dir);
+  const __m256d over = _mm256_cmp_pd(absv(h), lim, _CMP_GT_OQ);
+  const __m256d signedLim = pick(_mm256_xor_pd(lim, _mm256_set1_pd(-0.0)), lim, _mm256_cmp_pd(h, _mm256_setzero_pd(), _CMP_GT_OQ));
+  const V3 moved = sub(x, scale(dir, sub(h, signedLim)));
+  return V3{pick(x.x, moved.x, over), pick(x.y, moved.y, over), pick(x.z, moved.z, over)};
+}
+
+/// denoiseTargets for the lanes' stars (centre c, ring P, and X = P - c;
+/// the centres' indices times 3 in table's first row): returns the target,
+/// writes the fallback, clears the lanes of ok where it fails.
+template <int n>
+SODT_LANES_TARGET inline V3 denoiseN(const V3& c, const V3* P, const V3* X, const int* table, const DenoiseInput& in,
+                                     __m256d& ok, V3& fallback) {
+  const __m256d zero = _mm256_setzero_pd(), two = _mm256_set1_pd(2.0);
+  const long st = in.stride;
+  const V3 point = load4(in.point + st * (table[0] / 3), in.point + st * (table[1] / 3),
+                         in.point + st * (table[2] / 3), in.point + st * (table[3] / 3));
+  const V3 dir = load4(in.dir + st * (table[0] / 3), in.dir + st * (table[1] / 3), in.dir + st * (table[2] / 3),
+                       in.dir + st * (table[3] / 3));
+  // ringCentroid.
+  V3 centroid{zero, zero, zero};
+  for (int k = 0; k < n; ++k) centroid = add(centroid, P[k]);
+  const __m256d count = _mm256_set1_pd(double(n));
+  centroid = V3{_mm256_div_pd(centroid.x, count), _mm256_div_pd(centroid.y, count), _mm256_div_pd(centroid.z, count)};
+  // sodtQuadratic with dir.
+  __m256d C = zero, Q[3][3], g[3] = {zero, zero, zero};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Q[i][j] = zero;
+  for (int k = 0; k < n; ++k) {
+    const V3& Xa = X[k];
+    const V3& Xb = X[k + 1 < n ? k + 1 : 0];
+    const V3 e = sub(Xb, Xa), w = cross(e, dir), S = add(Xa, Xb);
+    const __m256d cc = dot(cross(Xa, Xb), dir);
+    const __m256d A = add(add(dot(Xa, Xa), dot(Xb, Xb)), dot(e, e));
+    C = add(C, cc);
+    const __m256d Sv[3] = {S.x, S.y, S.z}, wv[3] = {w.x, w.y, w.z};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Q[i][j] = add(Q[i][j], add(mul(Sv[i], wv[j]), mul(wv[i], Sv[j])));
+    const __m256d twoC = mul(two, cc);
+    for (int i = 0; i < 3; ++i) g[i] = sub(g[i], add(mul(Sv[i], twoC), mul(wv[i], A)));
+  }
+  for (int i = 0; i < 3; ++i) Q[i][i] = add(Q[i][i], mul(two, C));
+  // tangentFrame(dir) and minimizeOnPlane.
+  const V3 s = frameS(dir);
+  const V3 t = cross(dir, s);
+  const __m256d sv[3] = {s.x, s.y, s.z}, tv[3] = {t.x, t.y, t.z};
+  const __m256d qss = quad(Q, sv, sv), qtt = quad(Q, tv, tv), qst = quad(Q, sv, tv);
+  const V3 p0 = sub(point, c);
+  const __m256d p0v[3] = {p0.x, p0.y, p0.z};
+  __m256d grad[3];
+  for (int i = 0; i < 3; ++i) {
+    __m256d r = zero;
+    for (int j = 0; j < 3; ++j) r = add(r, mul(Q[i][j], p0v[j]));
+    grad[i] = add(g[i], mul(r, two));
+  }
+  const V3 gradv{grad[0], grad[1], grad[2]};
+  const __m256d negZero = _mm256_set1_pd(-0.0);
+  const __m256d rs = _mm256_xor_pd(dot(s, gradv), negZero), rt = _mm256_xor_pd(dot(t, gradv), negZero);
+  const __m256d det = sub(mul(qss, qtt), mul(qst, qst));
+  const __m256d scl = add(absv(mul(qss, qtt)), mul(qst, qst));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(qss, zero, _CMP_GT_OQ));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(det, mul(_mm256_set1_pd(1e-12), scl), _CMP_GT_OQ));
+  const __m256d twoDet = mul(two, det);
+  const __m256d u = _mm256_div_pd(sub(mul(qtt, rs), mul(qst, rt)), twoDet);
+  const __m256d v = _mm256_div_pd(sub(mul(qss, rt), mul(qst, rs)), twoDet);
+  const V3 p = add(add(p0, scale(s, u)), scale(t, v));
+  ok = _mm256_and_pd(ok, _mm256_and_pd(finite(p.x), _mm256_and_pd(finite(p.y), finite(p.z))));
+  // The fallback and the bound along dir.
+  const V3 d = sub(sub(centroid, c), p0);
+  const __m256d lim = _mm256_set1_pd(in.lim);
+  fallback = boundNormalStep(sub(add(point, d), scale(dir, dot(d, dir))), c, dir, lim);
+  const V3 target = boundNormalStep(add(c, p), c, dir, lim);
+  ok = _mm256_and_pd(ok, _mm256_and_pd(finite(target.x), _mm256_and_pd(finite(target.y), finite(target.z))));
+  ok = _mm256_and_pd(ok, _mm256_and_pd(finite(fallback.x), _mm256_and_pd(finite(fallback.y), finite(fallback.z))));
+  return target;
+}
+
+/// targets4 for valence n, known at compile time so that the loops unroll.
+template <int n>
+SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targets& out, const GuardInput* guard,
+                                       StepVerdict* verdict, Prepared* prepared, const DenoiseInput* denoise) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const V3 c = gather(pos, table);
+
+  // The ring relative to the centre, and the area-weighted normal (starNormal).
+  V3 P[n], X[n];
+  for (int k = 0; k < n; ++k) {
+    P[k] = gather(pos, table + kWidth * (k + 1));
+    X[k] = sub(P[k], c);
+  }
+  V3 sum{zero, zero, zero};
+  for (int k = 0; k < n; ++k) {
+    const V3 a = cross(X[k], X[k + 1 < n ? k + 1 : 0]);
+    sum = V3{add(sum.x, a.x), add(sum.y, a.y), add(sum.z, a.z)};
+  }
+  const __m256d len = _mm256_sqrt_pd(dot(sum, sum));
+  __m256d ok = _mm256_and_pd(_mm256_cmp_pd(len, zero, _CMP_GT_OQ), finite(len));
+  const V3 nrm = scale(sum, _mm256_div_pd(one, len));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(dot(nrm, nrm), zero, _CMP_NEQ_UQ));
+
+  V3 target;
+  if (denoise) {
+    V3 fallback;
+    target = denoiseN<n>(c, P, X, table, *denoise, ok, fallback);
+    _mm256_storeu_pd(out.fx, fallback.x);
+    _mm256_storeu_pd(out.fy, fallback.y);
+    _mm256_storeu_pd(out.fz, fallback.z);
+  } else {
+    target = solveN<n>(c, X, nrm, ok);
+  }
   _mm256_storeu_pd(out.x, target.x);
   _mm256_storeu_pd(out.y, target.y);
   _mm256_storeu_pd(out.z, target.z);
@@ -384,27 +511,28 @@ SODT_LANES_TARGET inline void targetsN(const double* pos, const int* table, Targ
 }  // namespace detail
 
 /// For four interior vertices with the same valence n (3 <= n <= kMaxValence),
-/// computes what solveStar(star) gives for each, and the normal starNormal(star). pos holds x, y, z per
+/// computes what solveStar(star) gives for each (with denoise, what
+/// denoiseTargets gives), and the normal starNormal(star). pos holds x, y, z per
 /// vertex; table is the group's index table (see packGroup). When guard is
 /// not null, also what prepareGuard gives each lane with that normal (when
 /// prepared is not null), and the full step's verdict (when verdict is not
 /// null; the table must have its face rows).
 SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int n, Targets& out,
                                        const GuardInput* guard = nullptr, StepVerdict* verdict = nullptr,
-                                       Prepared* prepared = nullptr) {
+                                       Prepared* prepared = nullptr, const DenoiseInput* denoise = nullptr) {
   using detail::targetsN;
   if (verdict) verdict->allowed = verdict->refused = 0;
   switch (n) {
-    case 3: return targetsN<3>(pos, table, out, guard, verdict, prepared);
-    case 4: return targetsN<4>(pos, table, out, guard, verdict, prepared);
-    case 5: return targetsN<5>(pos, table, out, guard, verdict, prepared);
-    case 6: return targetsN<6>(pos, table, out, guard, verdict, prepared);
-    case 7: return targetsN<7>(pos, table, out, guard, verdict, prepared);
-    case 8: return targetsN<8>(pos, table, out, guard, verdict, prepared);
-    case 9: return targetsN<9>(pos, table, out, guard, verdict, prepared);
-    case 10: return targetsN<10>(pos, table, out, guard, verdict, prepared);
-    case 11: return targetsN<11>(pos, table, out, guard, verdict, prepared);
-    case 12: return targetsN<12>(pos, table, out, guard, verdict, prepared);
+    case 3: return targetsN<3>(pos, table, out, guard, verdict, prepared, denoise);
+    case 4: return targetsN<4>(pos, table, out, guard, verdict, prepared, denoise);
+    case 5: return targetsN<5>(pos, table, out, guard, verdict, prepared, denoise);
+    case 6: return targetsN<6>(pos, table, out, guard, verdict, prepared, denoise);
+    case 7: return targetsN<7>(pos, table, out, guard, verdict, prepared, denoise);
+    case 8: return targetsN<8>(pos, table, out, guard, verdict, prepared, denoise);
+    case 9: return targetsN<9>(pos, table, out, guard, verdict, prepared, denoise);
+    case 10: return targetsN<10>(pos, table, out, guard, verdict, prepared, denoise);
+    case 11: return targetsN<11>(pos, table, out, guard, verdict, prepared, denoise);
+    case 12: return targetsN<12>(pos, table, out, guard, verdict, prepared, denoise);
     default: out.ok = 0; return;
   }
 }
@@ -489,7 +617,7 @@ SODT_LANES_TARGET inline void faceKeys4(const double* pos, const int* tri, const
 #else
 /// No kernel in this build: available() is false, so these are never called.
 inline void targets4(const double*, const int*, int, Targets& out, const GuardInput* = nullptr,
-                     StepVerdict* verdict = nullptr, Prepared* = nullptr) {
+                     StepVerdict* verdict = nullptr, Prepared* = nullptr, const DenoiseInput* = nullptr) {
   out.ok = 0;
   if (verdict) verdict->allowed = verdict->refused = 0;
 }

@@ -5,6 +5,7 @@
 
 #include "geometry.h"
 
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -222,6 +223,43 @@ inline bool minimizeOnPlane(const StarQuadratic& q, const Vec3& p0, const Vec3& 
   const double v = (qss * rt - qst * rs) / (2 * det);
   p = p0 + s * u + t * v;
   return isFinite(p);
+}
+
+/// Centroid of the star's ring.
+inline Vec3 ringCentroid(const Star& st) {
+  Vec3 centroid(0, 0, 0);
+  for (const Vec3& q : st.ring) centroid += q;
+  centroid /= double(st.size());
+  return centroid;
+}
+
+/// Moves x back along the unit vector dir to within lim of the height of
+/// centre (Algorithm 3's bound on the move along the fitted normal).
+inline void boundNormalStep(Vec3& x, const Vec3& centre, const Vec3& dir, double lim) {
+  const double h = (x - centre) * dir;
+  if (std::abs(h) > lim) x -= dir * (h - (h > 0 ? lim : -lim));
+}
+
+/// Algorithm 3's move of a smooth vertex (paper Sec. 2.5): the minimiser of
+/// Eq. 5 (with dir in D'_k) over the fitted plane through point with unit
+/// normal dir, and its fallback, the ring centroid shifted into that plane
+/// along dir; both bounded to lim along dir (boundNormalStep). False when
+/// the quadratic is not strictly convex on the plane or a result is not
+/// finite (target and fallback may be written then).
+inline bool denoiseTargets(const Star& st, const Vec3& point, const Vec3& dir, double lim, Vec3& target,
+                           Vec3& fallback) {
+  const Vec3 centroid = ringCentroid(st);
+  const StarQuadratic q = sodtQuadratic(st, dir);
+  Vec3 s, t, p;
+  tangentFrame(dir, s, t);
+  const Vec3 p0 = point - st.center;
+  if (!minimizeOnPlane(q, p0, s, t, p)) return false;
+  const Vec3 d = centroid - st.center - p0;
+  fallback = point + d - dir * (d * dir);
+  target = st.center + p;
+  boundNormalStep(target, st.center, dir, lim);
+  boundNormalStep(fallback, st.center, dir, lim);
+  return isFinite(target) && isFinite(fallback);
 }
 
 /// Smallest interior angle (radians) over the triangles of the star with the

@@ -68,9 +68,10 @@ struct SodtParams {
   /// the checked points, and skips the distance queries of later moves too
   /// short to use that margin up. The results are the same either way.
   bool reuseDeviationMargins = true;
-  /// Performance only: Algorithm 1 sweeps, and Algorithm 2's smooth
-  /// vertices (whose update is Algorithm 1's), solve four vertices at once in
-  /// AVX2 lanes when the processor has them (see lanes.h), and test the
+  /// Performance only: Algorithm 1 sweeps, Algorithm 2's smooth vertices
+  /// (whose update is Algorithm 1's) and Algorithm 3's smooth vertices with a
+  /// fitted plane solve four vertices at once in AVX2 lanes when the
+  /// processor has them (see lanes.h), and test the
   /// full step under the fold and angle guard there too (without the
   /// deviation bound, only for groups whose vertices mostly moved by their
   /// full step at their last visit). A step that passes

@@ -260,10 +260,27 @@ struct SodtSmoother {
     int maxValence = 0;
     for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
     for (Scratch& s : scratch) s.reserve(maxValence);
-    // Algorithm 1, and the smooth vertices of Algorithm 2 (whose update is
-    // Algorithm 1's): the 4-lane kernel when the processor has it.
-    const bool useLanes = p.simd && (p.algorithm == Algorithm::Basic || p.algorithm == Algorithm::Feature) &&
+    // Algorithm 1, the smooth vertices of Algorithm 2 (whose update is
+    // Algorithm 1's) and those of Algorithm 3 with a fitted plane: the 4-lane
+    // kernel when the processor has it.
+    const bool denoiseLanes = p.algorithm == Algorithm::Denoise;
+    const bool useLanes = p.simd &&
+                          (p.algorithm == Algorithm::Basic || p.algorithm == Algorithm::Feature || denoiseLanes) &&
                           lanes::available() && nv < std::numeric_limits<int>::max() / 3;
+    std::vector<char> laneable;
+    lanes::DenoiseInput laneDenoise;
+    if (useLanes) {
+      laneable.assign(nv, 0);
+      for (int i : active)
+        laneable[i] = cls.cls[i] == VertexClass::Smooth && (!denoiseLanes || fit[i].ok);
+      if (denoiseLanes && !fit.empty()) {
+        static_assert(sizeof(FittedFrame) % sizeof(double) == 0, "frames must be read as doubles");
+        laneDenoise.point = &fit[0].point[0];
+        laneDenoise.dir = &fit[0].dir[0];
+        laneDenoise.stride = static_cast<int>(sizeof(FittedFrame) / sizeof(double));
+        laneDenoise.lim = p.maxNormalStepRel * meanEdge;
+      }
+    }
     // The kernel also tests the full step under the fold and angle guard
     // (when the mesh stores float or double coordinates, what
     // representable() rounds to), and an accepted step is committed with no
@@ -281,7 +298,7 @@ struct SodtSmoother {
       laneGuardInput.quality = p.guard == Guard::Quality;
       laneGuardInput.roundToFloat = std::is_same<ScalarType, float>::value;
     }
-    LanePlan lanePlan = useLanes ? planLanes(plan, topo, cls.cls, laneGuard) : LanePlan();
+    LanePlan lanePlan = useLanes ? planLanes(plan, topo, laneable, laneGuard) : LanePlan();
     const bool prefetchFaces = p.guard != Guard::None && !faceNormal.empty();
     const bool laneMargins = laneGuard && deviationGuard;
     // Without the deviation bound the kernel's full-step test pays only when
@@ -427,7 +444,7 @@ struct SodtSmoother {
             lanes::StepVerdict v;
             lanes::targets4(&pos[0][0], lanePlan.table.data() + lanePlan.tableBegin[g], lanePlan.valence[g], t,
                             lanePrepare ? &laneGuardInput : nullptr, likely >= likelyNeeded ? &v : nullptr,
-                            lanePrepare ? &sc.prepared : nullptr);
+                            lanePrepare ? &sc.prepared : nullptr, denoiseLanes ? &laneDenoise : nullptr);
             if (likely < likelyNeeded) v.allowed = v.refused = 0;
             for (int l = 0; l < lanes::kWidth; ++l) {
               const int i = vs[l];
@@ -462,9 +479,13 @@ struct SodtSmoother {
                 // The guarded visit, with propose()'s result from the kernel.
                 Proposal pr;
                 if (ok) {
-                  pr.ok = pr.tangentialFallback = true;
+                  pr.ok = true;
                   pr.target = Vec3(t.x[l], t.y[l], t.z[l]);
                   pr.normal = Vec3(t.nx[l], t.ny[l], t.nz[l]);
+                  if (denoiseLanes)
+                    pr.fallback = Vec3(t.fx[l], t.fy[l], t.fz[l]);
+                  else
+                    pr.tangentialFallback = true;
                 }
                 sc.laneVisits += visitOne(i, sc, &pr, full);
                 continue;
@@ -530,7 +551,7 @@ struct SodtSmoother {
           stats.flips += flipped;
           topo = buildRingTopology(faces, deleted);
           plan = colourVertices(topo, active);
-          if (useLanes) lanePlan = planLanes(plan, topo, cls.cls, laneGuard);
+          if (useLanes) lanePlan = planLanes(plan, topo, laneable, laneGuard);
           for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
           for (Scratch& s : scratch) s.reserve(maxValence);
           std::fill(lastVisit.begin(), lastVisit.end(), -1);  // stars changed: visit everything again
@@ -863,28 +884,14 @@ struct SodtSmoother {
       pr.ok = true;
       return pr;
     }
-    Vec3 centroid(0, 0, 0);
-    for (const Vec3& q : star.ring) centroid += q;
-    centroid /= double(star.size());
+    const Vec3 centroid = ringCentroid(star);
 
     if (c.p.algorithm == Algorithm::Denoise && c.fit[i].ok) {
       const FittedFrame& f = c.fit[i];
       Vec3 p;
       if (vc == VertexClass::Smooth) {
-        const StarQuadratic q = sodtQuadratic(star, f.dir);
-        Vec3 s, t;
-        tangentFrame(f.dir, s, t);
-        const Vec3 p0 = f.point - star.center;
-        if (!minimizeOnPlane(q, p0, s, t, p)) return pr;
-        const Vec3 d = centroid - star.center - p0;
-        pr.fallback = f.point + d - f.dir * (d * f.dir);
-        pr.target = star.center + p;
-        // Bound the move along the fitted normal.
-        const double lim = c.p.maxNormalStepRel * c.meanEdge;
-        for (Vec3* x : {&pr.target, &pr.fallback}) {
-          const double h = (*x - star.center) * f.dir;
-          if (std::abs(h) > lim) *x -= f.dir * (h - (h > 0 ? lim : -lim));
-        }
+        pr.ok = denoiseTargets(star, f.point, f.dir, c.p.maxNormalStepRel * c.meanEdge, pr.target, pr.fallback);
+        return pr;
       } else {
         const StarQuadratic q = sodtQuadratic(star, pr.normal);
         const Vec3 p0 = f.point - star.center;
@@ -950,10 +957,10 @@ struct SodtSmoother {
   /// gathers otherwise (a fifth of an unguarded sweep at 1M vertices).
   static constexpr int kPrefetchGroups = 4;
 
-  /// Only smooth vertices (cls) go into groups: the kernel computes
-  /// Algorithm 1's update, which is theirs with Algorithms 1 and 2. withFaces:
-  /// the tables get the face rows of the full-step test.
-  static LanePlan planLanes(const SweepPlan& plan, const RingTopology& topo, const std::vector<VertexClass>& cls,
+  /// Only the vertices marked laneable go into groups (those whose update
+  /// the kernel computes). withFaces: the tables get the face rows of the
+  /// full-step test.
+  static LanePlan planLanes(const SweepPlan& plan, const RingTopology& topo, const std::vector<char>& laneable,
                             bool withFaces) {
     LanePlan lp;
     const std::size_t colours = plan.colourBegin.size() - 1;
@@ -966,7 +973,7 @@ struct SodtSmoother {
     for (std::size_t c = 0; c < colours; ++c) {
       for (int j = plan.colourBegin[c]; j < plan.colourBegin[c + 1]; ++j) {
         const int v = plan.order[j], n = topo.ringSize(v);
-        if (n < 3 || n > lanes::kMaxValence || cls[v] != VertexClass::Smooth) {
+        if (n < 3 || n > lanes::kMaxValence || !laneable[v]) {
           lp.rest.push_back(v);
           continue;
         }
