@@ -218,6 +218,46 @@ TEST(Metrics, DistanceSamplerMatchesVcgHausdorffSampler) {
   }
 }
 
+/// Samples far from the other surface, in cells many cell widths away from
+/// its nearest face: a sphere against an open, larger cap of a coarser
+/// sphere. The search widens round by round there; the distances must still
+/// be vcglib's, with the boxes tested four at a time or one at a time, on
+/// one thread or more.
+TEST(Metrics, DistanceSearchMatchesVcgFarFromTheOtherSurface) {
+  Mesh a, sphere, b;
+  sodt_test::makeSphere(a, 4);
+  sodt_test::makeSphere(sphere, 3);
+  for (auto& f : sphere.face)
+    if ((f.cP(0)[2] + f.cP(1)[2] + f.cP(2)[2]) / 3 > -0.2) vcg::tri::Allocator<Mesh>::DeleteFace(sphere, f);
+  sodt::detail::copyLive(sphere, b);  // the cap below z = -0.2, without the rest
+  for (auto& v : b.vert) v.P() = v.P() * 1.3 + vcg::Point3d(0.05, 0, 0);
+  vcg::tri::UpdateBounding<Mesh>::Box(a);
+  vcg::tri::UpdateBounding<Mesh>::Box(b);
+  ASSERT_GT(b.fn, 50);
+  ASSERT_LT(b.fn, static_cast<int>(sphere.face.size()) / 2);
+  const double bound = 10.0;
+  Mesh A, B;
+  sodt::detail::copyToDouble(a, A);
+  sodt::detail::copyToDouble(b, B);
+  const auto expected = vcgOneSided(A, B, bound);
+  const auto expectedBa = vcgOneSided(B, A, bound);
+  // The upper half of a is farther from the cap than the cap's grid cells
+  // are wide: its samples need searches several cells wide.
+  EXPECT_GT(expected.first, 1.0);
+  for (int threads : {1, 2})
+    for (bool simd : {true, false}) {
+      sodt::SampleMesh As, Bs;
+      sodt::detail::copyLive(a, As);
+      sodt::detail::copyLive(b, Bs);
+      const auto ab = sodt::detail::oneSidedDistance(As, Bs, bound, threads, simd);
+      EXPECT_TRUE(sameBits(ab.first, expected.first)) << ab.first << " vs " << expected.first << ", " << threads;
+      EXPECT_TRUE(sameBits(ab.second, expected.second)) << ab.second << " vs " << expected.second << ", " << threads;
+      const auto ba = sodt::detail::oneSidedDistance(Bs, As, bound, threads, simd);
+      EXPECT_TRUE(sameBits(ba.first, expectedBa.first)) << ba.first << " vs " << expectedBa.first << ", " << threads;
+      EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second << ", " << threads;
+    }
+}
+
 /// A mesh with a spike against the same mesh without it (what smoothing
 /// does to a spike): the samples on the spike lie millions of the smooth
 /// mesh's grid cells away from it. Each used to cost a search round per cell

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "geometry.h"
+#include "lanes.h"
 #include "mesh.h"
 
 #include <vcg/complex/algorithms/point_sampling.h>
@@ -53,15 +54,14 @@ constexpr double kFarDiagonals = 10.0;
 
 /// Positions and triangles in double and nothing else (no vertex normal,
 /// quality, colour or adjacency): the meshes surfaceDistance samples, less
-/// than half the memory of a MeshD. The face normals and marks are there for
-/// vcglib's closest-face search.
+/// than half the memory of a MeshD. The face normals are there for vcglib's
+/// point-face distance.
 struct SampleMeshTypes {
   class Vertex;
   class Face;
   struct UsedTypes : public vcg::UsedTypes<vcg::Use<Vertex>::AsVertexType, vcg::Use<Face>::AsFaceType> {};
   class Vertex : public vcg::Vertex<UsedTypes, vcg::vertex::Coord3d, vcg::vertex::BitFlags> {};
-  class Face : public vcg::Face<UsedTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::Mark,
-                                vcg::face::BitFlags> {};
+  class Face : public vcg::Face<UsedTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::BitFlags> {};
   class Mesh : public vcg::tri::TriMesh<std::vector<Vertex>, std::vector<Face>> {};
 };
 using SampleMesh = SampleMeshTypes::Mesh;
@@ -156,38 +156,52 @@ void pointsOnly(const MeshType& m, SampleMesh& out) {
 
 /// Distances from sample points to the surface of `to` (to its vertices when
 /// it has no faces): vcglib's HausdorffSampler reduced to what
-/// surfaceDistance reports, with the same search and the same arithmetic, so
-/// the same results bit for bit. Unlike HausdorffSampler it takes samples of
-/// any mesh type, needs no normals and leaves the sampled vertices' quality
-/// alone (HausdorffSampler stores each vertex's distance there).
+/// surfaceDistance reports, with the same results bit for bit. Each sample's
+/// distance is the smallest of vcglib's point-face distances over the faces
+/// within the bound, found by vcglib's closest-face search over vcglib's face
+/// grid, cell for cell. Unlike HausdorffSampler it takes samples of any mesh
+/// type, needs no normals and leaves the sampled vertices' quality alone
+/// (HausdorffSampler stores each vertex's distance there).
 ///
-/// Two things make it faster than HausdorffSampler without changing a
-/// distance: the samples are looked up in the order of a space-filling curve
-/// (random surface points in sampling order touch a new part of the mesh
-/// each time; in curve order, consecutive lookups share their cells and
-/// faces in the cache), and a face whose bounding box is farther than the
-/// closest distance found so far is passed over without vcglib's
-/// point-face distance, which could not come out smaller.
+/// Three things make it faster than HausdorffSampler without changing a
+/// distance:
+/// - the samples are looked up in the order of a space-filling curve, from a
+///   copy in that order (random surface points in sampling order touch a new
+///   part of the mesh each time; in curve order, consecutive lookups share
+///   their cells and faces in the cache);
+/// - a face whose bounding box is farther than the closest distance found so
+///   far is passed over without vcglib's point-face distance, which could not
+///   come out smaller;
+/// - those boxes are kept beside the grid, cell by cell, in float rounded
+///   outwards, and tested four at a time (AVX2, where the processor has it).
+///   A sample's search reads one short run of them per cell instead of
+///   each face's three corners.
+/// The search does not mark the faces it has measured: a face in several of
+/// the cells searched is measured once per cell, with the same distance.
 template <class To>
 class DistanceSampler {
  public:
   using CoordType = typename To::CoordType;
   using ScalarType = typename To::ScalarType;
 
-  /// Normalizes to's face normals (the closest-face search needs them) and
+  /// Normalizes to's face normals (the point-face distance needs them) and
   /// indexes its faces, or its vertices when it has none. The samples are
   /// expected inside `cover`: vcglib's closest-point search widens its radius
   /// one cell at a time, so a sample far outside the grid would take as many
   /// rounds as there are cell widths between them (a mesh whose spike the
   /// smoothing removed: ten million rounds per sample). The grid is laid over
-  /// cover as well when cover reaches beyond to's own box.
-  DistanceSampler(To& to, ScalarType upperBound, const vcg::Box3<ScalarType>& cover)
-      : to_(to), marker_(&to), upperBound_(upperBound) {
+  /// cover as well when cover reaches beyond to's own box. simd: test the
+  /// boxes four at a time where the processor can (the results are the same
+  /// either way).
+  DistanceSampler(To& to, ScalarType upperBound, const vcg::Box3<ScalarType>& cover, bool simd = true)
+      : to_(to), upperBound_(upperBound), simd_(simd && lanes::available()) {
     vcg::tri::UpdateNormal<To>::PerFaceNormalized(to);
-    if (to.fn == 0)
+    if (to.fn == 0) {
       setGrid(vertexGrid_, to.vert.begin(), to.vert.end(), to.vn, cover);
-    else
+    } else {
       setGrid(faceGrid_, to.face.begin(), to.face.end(), to.fn, cover);
+      setBoxes();
+    }
     // vcglib's point-face distance rounds at the scale of the coordinates,
     // not of the distance: the bounding-box test leaves that much room.
     ScalarType largest = 0;
@@ -196,7 +210,7 @@ class DistanceSampler {
         for (int j = 0; j < 3; ++j) largest = std::max(largest, std::abs(v.cP()[j]));
     if (!cover.IsNull())
       for (int j = 0; j < 3; ++j) largest = std::max({largest, std::abs(cover.min[j]), std::abs(cover.max[j])});
-    faceDistance_.slack = ScalarType(1e-12) * largest;
+    slack_ = ScalarType(1e-12) * largest;
   }
 
   /// HausdorffSampler::AddVert without the normal and the quality.
@@ -212,26 +226,22 @@ class DistanceSampler {
 
   /// Looks up the samples taken so far, on threads threads, and adds their
   /// distances in the order they were taken, as HausdorffSampler adds them
-  /// one by one: the result does not depend on the number of threads. (The
-  /// parallel searches do not mark faces, so a face in several cells may be
-  /// measured more than once: the smallest distance is the same.)
+  /// one by one: the result does not depend on the number of threads.
   void measure(int threads) {
     const long long n = static_cast<long long>(points_.size());
     std::vector<ScalarType> dist(points_.size());
-    const std::vector<int> order = curveOrder();
-    threads = std::max(1, std::min(threads, 1024));
-    if (to_.fn == 0 || threads == 1 || n < 4096) {
-      for (long long j = 0; j < n; ++j) dist[order[j]] = closest(points_[order[j]], marker_);
-    } else {
+    {
+      const std::vector<int> order = curveOrder();
+      std::vector<CoordType> sorted(points_.size());
+      for (long long j = 0; j < n; ++j) sorted[j] = points_[order[j]];
+      threads = std::max(1, std::min(threads, 1024));
+      if (to_.fn == 0) {
+        for (long long j = 0; j < n; ++j) dist[order[j]] = closestVertex(sorted[j]);
+      } else {
 #ifdef _OPENMP
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1024) if (threads > 1 && n >= 4096)
 #endif
-      {
-        vcg::tri::EmptyTMark<To> none;
-#ifdef _OPENMP
-#pragma omp for schedule(dynamic, 1024)
-#endif
-        for (long long j = 0; j < n; ++j) dist[order[j]] = closest(points_[order[j]], none);
+        for (long long j = 0; j < n; ++j) dist[order[j]] = closestFace(sorted[j]);
       }
     }
     for (const ScalarType d : dist) {
@@ -250,46 +260,141 @@ class DistanceSampler {
   float meanDist() const { return float(sumDist_ / samples_); }
 
  private:
+  using FaceGrid = vcg::GridStaticPtr<typename To::FaceType, ScalarType>;
+  using VertexGrid = vcg::GridStaticPtr<typename To::VertexType, ScalarType>;
+  using Link = typename FaceGrid::Link;
+
   /// Samples are looked up by measure().
   void addSample(const CoordType& p) { points_.push_back(p); }
 
-  /// The distance HausdorffSampler::AddSample finds for p: the upper bound
-  /// when no surface point is closer.
-  template <class Marker>
-  ScalarType closest(const CoordType& p, Marker& marker) {
+  /// The distance HausdorffSampler::AddSample finds for p when to has no
+  /// faces: the upper bound when no vertex is closer.
+  ScalarType closestVertex(const CoordType& p) {
     ScalarType dist = upperBound_;
-    if (to_.fn == 0) {
-      vcg::tri::GetClosestVertex<To, VertexGrid>(to_, vertexGrid_, p, upperBound_, dist);
-    } else {
-      CoordType closestPoint;
-      faceGrid_.GetClosest(faceDistance_, marker, p, upperBound_, dist, closestPoint);
-    }
+    vcg::tri::GetClosestVertex<To, VertexGrid>(to_, vertexGrid_, p, upperBound_, dist);
     return dist;
   }
 
-  /// vcglib's PointDistanceBaseFunctor, after a test that passes over a
-  /// face whose bounding box is farther from the point than the distance to
-  /// beat by more than the distance's rounding (slack): the face's own
-  /// distance cannot beat it then, and it is left as it was.
-  struct PrunedFaceDistance {
-    using QueryType = CoordType;
-    static const CoordType& Pos(const QueryType& q) { return q; }
-    ScalarType slack = 0;
-    template <class FaceType>
-    bool operator()(const FaceType& f, const CoordType& p, ScalarType& minDist, CoordType& closest) const {
-      ScalarType d2 = 0;
+  /// The bounding box of the face of every link of the face grid, in the
+  /// links' order (a cell's faces are a run), one array per bound and axis:
+  /// box_[a * stride_ + k] for link k, a = 0..2 the lower and 3..5 the upper
+  /// bounds, rounded outwards to float. stride_ leaves room for a group of
+  /// four that reads past the last link.
+  void setBoxes() {
+    const std::size_t nl = faceGrid_.links.size();
+    stride_ = nl + lanes::kWidth;
+    box_.assign(6 * stride_, 0.f);
+    for (std::size_t k = 0; k < nl; ++k) {
+      const auto* f = faceGrid_.links[k].Elem();
+      if (!f) continue;  // the grid's end marker
       for (int j = 0; j < 3; ++j) {
-        const ScalarType a = f.cP(0)[j], b = f.cP(1)[j], c = f.cP(2)[j];
+        const ScalarType a = f->cP(0)[j], b = f->cP(1)[j], c = f->cP(2)[j];
         const ScalarType lo = std::min(a, std::min(b, c)), hi = std::max(a, std::max(b, c));
-        const ScalarType e = p[j] < lo ? lo - p[j] : p[j] > hi ? p[j] - hi : ScalarType(0);
-        d2 += e * e;
+        float flo = static_cast<float>(lo), fhi = static_cast<float>(hi);
+        if (ScalarType(flo) > lo) flo = std::nextafter(flo, -std::numeric_limits<float>::infinity());
+        if (ScalarType(fhi) < hi) fhi = std::nextafter(fhi, std::numeric_limits<float>::infinity());
+        box_[j * stride_ + k] = flo;
+        box_[(3 + j) * stride_ + k] = fhi;
       }
-      const ScalarType reach = minDist * ScalarType(1 + 1e-9) + slack;
-      if (d2 > reach * reach) return false;
-      vcg::face::PointDistanceBaseFunctor<ScalarType> exact;
-      return exact(f, p, minDist, closest);
     }
-  };
+  }
+
+  /// The squared distance from p to the box of link k, in double; nothing
+  /// of the face itself is read. (The float box holds the face's box, so
+  /// this is at most the squared distance to the face.)
+  ScalarType boxDistance2(const CoordType& p, std::size_t k) const {
+    ScalarType d2 = 0;
+    for (int j = 0; j < 3; ++j) {
+      const ScalarType lo = box_[j * stride_ + k], hi = box_[(3 + j) * stride_ + k];
+      const ScalarType e = std::max(std::max(lo - p[j], p[j] - hi), ScalarType(0));
+      d2 = j == 0 ? e * e : d2 + e * e;
+    }
+    return d2;
+  }
+
+  /// Bit l set: link k + l has a box within sqrt(reach2) of p (or a distance
+  /// that is NaN), the lanes of boxDistance2 compared as the scalar test
+  /// compares them.
+  int nearBoxes(const CoordType& p, std::size_t k, ScalarType reach2) const {
+#ifdef SODT_HAVE_LANES
+    if (simd_) return nearBoxes4(p, k, reach2);
+#endif
+    int m = 0;
+    for (int l = 0; l < lanes::kWidth; ++l) m |= !(boxDistance2(p, k + l) > reach2) << l;
+    return m;
+  }
+
+#ifdef SODT_HAVE_LANES
+  __attribute__((target("avx2"))) int nearBoxes4(const CoordType& p, std::size_t k, ScalarType reach2) const {
+    __m256d d2 = _mm256_setzero_pd();
+    for (int j = 0; j < 3; ++j) {
+      const __m256d lo = _mm256_cvtps_pd(_mm_loadu_ps(&box_[j * stride_ + k]));
+      const __m256d hi = _mm256_cvtps_pd(_mm_loadu_ps(&box_[(3 + j) * stride_ + k]));
+      const __m256d q = _mm256_set1_pd(double(p[j]));
+      const __m256d e =
+          _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(lo, q), _mm256_sub_pd(q, hi)), _mm256_setzero_pd());
+      d2 = j == 0 ? _mm256_mul_pd(e, e) : _mm256_add_pd(d2, _mm256_mul_pd(e, e));
+    }
+    return _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_set1_pd(double(reach2)), _CMP_NGT_UQ));
+  }
+#endif
+
+  /// The distance HausdorffSampler::AddSample finds for p: the upper bound
+  /// when no surface point is closer. vcglib's GridClosest, cell for cell:
+  /// first the cell that holds p, then the cells within the closest distance
+  /// found (or one more cell diagonal while there is none) until that
+  /// distance is within the radius searched. A face is measured with
+  /// vcglib's PointDistanceBaseFunctor unless its box is farther than the
+  /// closest distance so far by more than the distance's rounding (slack_):
+  /// its distance could not beat it then.
+  ScalarType closestFace(const CoordType& p) {
+    FaceGrid& G = faceGrid_;
+    Link* const links = G.links.data();
+    ScalarType minDist = upperBound_;
+    bool found = false;
+    vcg::face::PointDistanceBaseFunctor<ScalarType> exact;
+    CoordType closest;
+    const auto searchCell = [&](int cell) {
+      Link* const first = G.grid[cell];
+      const int n = static_cast<int>(G.grid[cell + 1] - first);
+      const std::size_t k = static_cast<std::size_t>(first - links);
+      for (int g = 0; g < n; g += lanes::kWidth) {
+        const ScalarType reach = minDist * ScalarType(1 + 1e-9) + slack_;
+        int near = nearBoxes(p, k + g, reach * reach);
+        if (n - g < lanes::kWidth) near &= (1 << (n - g)) - 1;
+        for (int l = 0; l < lanes::kWidth; ++l) {
+          if (!(near >> l & 1)) continue;
+          const auto& f = *first[g + l].Elem();
+          if (!f.IsD() && exact(f, p, minDist, closest)) found = true;
+        }
+      }
+    };
+    const ScalarType step = G.voxel.Norm();
+    ScalarType radius = step;
+    vcg::Box3i done, todo;  // done starts empty
+    if (G.bbox.IsInEx(p)) {
+      vcg::Point3i ip;
+      G.PToIP(p, ip);
+      searchCell(ip[0] + G.siz[0] * (ip[1] + G.siz[1] * ip[2]));
+      if (found) radius = minDist;
+      done = vcg::Box3i(ip, ip);
+    }
+    const vcg::Box3i all(vcg::Point3i(0, 0, 0), G.siz - vcg::Point3i(1, 1, 1));
+    for (;;) {
+      G.BoxToIBox(vcg::Box3<ScalarType>(p, radius), todo);
+      todo.Intersect(all);
+      for (int x = todo.min[0]; x <= todo.max[0]; ++x)
+        for (int y = todo.min[1]; y <= todo.max[1]; ++y)
+          for (int z = todo.min[2]; z <= todo.max[2]; ++z)
+            if (x < done.min[0] || x > done.max[0] || y < done.min[1] || y > done.max[1] || z < done.min[2] ||
+                z > done.max[2])
+              searchCell(x + G.siz[0] * (y + G.siz[1] * z));
+      done = todo;
+      if (!(minDist > radius)) break;
+      radius = found ? minDist : radius + step;
+    }
+    return minDist;
+  }
 
   /// The samples' order along a Morton (Z-order) curve over the grid's box,
   /// 21 bits per axis.
@@ -345,14 +450,14 @@ class DistanceSampler {
     grid.Set(begin, end, all, size);
   }
 
-  using FaceGrid = vcg::GridStaticPtr<typename To::FaceType, ScalarType>;
-  using VertexGrid = vcg::GridStaticPtr<typename To::VertexType, ScalarType>;
   To& to_;
   FaceGrid faceGrid_;
   VertexGrid vertexGrid_;
-  vcg::tri::FaceTmark<To> marker_;
-  PrunedFaceDistance faceDistance_;
+  std::vector<float> box_;  ///< see setBoxes
+  std::size_t stride_ = 0;
   ScalarType upperBound_;
+  ScalarType slack_ = 0;
+  bool simd_;
   std::vector<CoordType> points_;  ///< taken, not looked up yet
   double maxDist_ = 0;
   double sumDist_ = 0;
@@ -400,12 +505,13 @@ void montecarloSamples(From& m, Sampler& ps, int sampleNum) {
 /// One-sided distances from samples of `from` (all vertices plus area-uniform
 /// random points with a fixed seed) to the surface of `to`. Both are double
 /// meshes (MeshD or SampleMesh) without deleted faces and with an up-to-date
-/// bounding box; `to` gets normalized face normals and fresh face marks.
+/// bounding box; `to` gets normalized face normals. simd: see DistanceSampler
+/// (the results are the same either way).
 template <class From, class To>
-std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound, int threads = 1) {
+std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound, int threads = 1,
+                                           bool simd = true) {
   using Sampler = DistanceSampler<To>;
-  vcg::tri::InitFaceIMark(to);  // the closest-face search marks faces
-  Sampler hs(to, upperBound, from.bbox);
+  Sampler hs(to, upperBound, from.bbox, simd);
   using SS = vcg::tri::SurfaceSampling<From, Sampler>;
   SS::SamplingRandomGenerator().initialize(20130101u);
   // Every vertex and 2F area-uniform points, capped so that a multi-million
