@@ -501,7 +501,7 @@ struct Distance {
 };
 
 /// Samples both surfaces (sodt::surfaceDistanceInPlace: no copy of a large
-/// mesh; it updates their bounding boxes, face normals and face marks, which
+/// mesh; it updates their bounding boxes and face normals, which
 /// no file written afterwards contains) unless a vertex of m lies more than
 /// one diagonal outside ref's bounding box, as after a diverged unguarded
 /// run: then sampling says nothing more and can take very long, and the

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -192,15 +193,16 @@ class DistanceSampler {
   /// smoothing removed: ten million rounds per sample). The grid is laid over
   /// cover as well when cover reaches beyond to's own box. simd: test the
   /// boxes four at a time where the processor can (the results are the same
-  /// either way).
-  DistanceSampler(To& to, ScalarType upperBound, const vcg::Box3<ScalarType>& cover, bool simd = true)
+  /// either way); threads: for the boxes.
+  DistanceSampler(To& to, ScalarType upperBound, const vcg::Box3<ScalarType>& cover, bool simd = true,
+                  int threads = 1)
       : to_(to), upperBound_(upperBound), simd_(simd && lanes::available()) {
     vcg::tri::UpdateNormal<To>::PerFaceNormalized(to);
     if (to.fn == 0) {
       setGrid(vertexGrid_, to.vert.begin(), to.vert.end(), to.vn, cover);
     } else {
       setGrid(faceGrid_, to.face.begin(), to.face.end(), to.fn, cover);
-      setBoxes();
+      setBoxes(std::max(1, std::min(threads, 1024)));
     }
     // vcglib's point-face distance rounds at the scale of the coordinates,
     // not of the distance: the bounding-box test leaves that much room.
@@ -279,22 +281,32 @@ class DistanceSampler {
   /// links' order (a cell's faces are a run), one array per bound and axis:
   /// box_[a * stride_ + k] for link k, a = 0..2 the lower and 3..5 the upper
   /// bounds, rounded outwards to float. stride_ leaves room for a group of
-  /// four that reads past the last link.
-  void setBoxes() {
-    const std::size_t nl = faceGrid_.links.size();
-    stride_ = nl + lanes::kWidth;
-    box_.assign(6 * stride_, 0.f);
-    for (std::size_t k = 0; k < nl; ++k) {
-      const auto* f = faceGrid_.links[k].Elem();
-      if (!f) continue;  // the grid's end marker
+  /// four that reads past the last link. Filled on threads threads (the
+  /// array is written where it is first touched, not zeroed before).
+  void setBoxes(int threads) {
+    const long long nl = static_cast<long long>(faceGrid_.links.size());
+    stride_ = static_cast<std::size_t>(nl) + lanes::kWidth;
+    box_.reset(new float[6 * stride_]);
+    float* const box = box_.get();
+    const std::size_t stride = stride_;
+    auto& links = faceGrid_.links;  // (Link::Elem is not const)
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nl >= 65536)
+#endif
+    for (long long k = 0; k < nl + lanes::kWidth; ++k) {
+      const auto* f = k < nl ? links[static_cast<std::size_t>(k)].Elem() : nullptr;
       for (int j = 0; j < 3; ++j) {
-        const ScalarType a = f->cP(0)[j], b = f->cP(1)[j], c = f->cP(2)[j];
-        const ScalarType lo = std::min(a, std::min(b, c)), hi = std::max(a, std::max(b, c));
-        float flo = static_cast<float>(lo), fhi = static_cast<float>(hi);
-        if (ScalarType(flo) > lo) flo = std::nextafter(flo, -std::numeric_limits<float>::infinity());
-        if (ScalarType(fhi) < hi) fhi = std::nextafter(fhi, std::numeric_limits<float>::infinity());
-        box_[j * stride_ + k] = flo;
-        box_[(3 + j) * stride_ + k] = fhi;
+        float flo = 0, fhi = 0;  // the grid's end marker and the room after it
+        if (f) {
+          const ScalarType a = f->cP(0)[j], b = f->cP(1)[j], c = f->cP(2)[j];
+          const ScalarType lo = std::min(a, std::min(b, c)), hi = std::max(a, std::max(b, c));
+          flo = static_cast<float>(lo);
+          fhi = static_cast<float>(hi);
+          if (ScalarType(flo) > lo) flo = std::nextafter(flo, -std::numeric_limits<float>::infinity());
+          if (ScalarType(fhi) < hi) fhi = std::nextafter(fhi, std::numeric_limits<float>::infinity());
+        }
+        box[j * stride + k] = flo;
+        box[(3 + j) * stride + k] = fhi;
       }
     }
   }
@@ -453,7 +465,7 @@ class DistanceSampler {
   To& to_;
   FaceGrid faceGrid_;
   VertexGrid vertexGrid_;
-  std::vector<float> box_;  ///< see setBoxes
+  std::unique_ptr<float[]> box_;  ///< see setBoxes
   std::size_t stride_ = 0;
   ScalarType upperBound_;
   ScalarType slack_ = 0;
@@ -511,7 +523,7 @@ template <class From, class To>
 std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound, int threads = 1,
                                            bool simd = true) {
   using Sampler = DistanceSampler<To>;
-  Sampler hs(to, upperBound, from.bbox, simd);
+  Sampler hs(to, upperBound, from.bbox, simd, threads);
   using SS = vcg::tri::SurfaceSampling<From, Sampler>;
   SS::SamplingRandomGenerator().initialize(20130101u);
   // Every vertex and 2F area-uniform points, capped so that a multi-million
@@ -758,8 +770,8 @@ DistanceStats surfaceDistance(const MeshA& a, const MeshB& b, int threads = 1) {
 /// outside the live faces; any other is copied as surfaceDistance copies it).
 /// For a multi-million vertex mesh this saves the copies' memory. a and b are
 /// double meshes (MeshD or SampleMesh). A mesh sampled in place gets its
-/// bounding box updated, its face normals normalized and its face marks reset
-/// (vcglib's closest-face search needs them); its positions, faces, vertex
+/// bounding box updated and its face normals normalized (vcglib's point-face
+/// distance needs them); its positions, faces, vertex
 /// normals, quality, colour and flags are left alone.
 template <class MeshA, class MeshB>
 DistanceStats surfaceDistanceInPlace(MeshA& a, MeshB& b, int threads = 1) {
