@@ -218,6 +218,57 @@ TEST(Metrics, DistanceSamplerMatchesVcgHausdorffSampler) {
   }
 }
 
+/// The distance measure's face grid is vcglib's GridStaticPtr::Set, cell for
+/// cell: the same box, cell sizes and faces per cell, over the faces' own box
+/// and over a larger one that covers the other mesh.
+TEST(Metrics, FaceGridIsVcglibs) {
+  Mesh m;
+  sodt_test::makeSphere(m, 3);
+  sodt_test::jitterOnSphere(m, 0.05, 3);
+  sodt::SampleMesh s;
+  sodt::detail::copyLive(m, s);
+  using Grid = vcg::GridStaticPtr<sodt::SampleMesh::FaceType, double>;
+  const auto sameGrid = [](Grid& a, Grid& b) {
+    ASSERT_EQ(a.bbox.min, b.bbox.min);
+    ASSERT_EQ(a.bbox.max, b.bbox.max);
+    ASSERT_EQ(a.siz, b.siz);
+    ASSERT_EQ(a.voxel, b.voxel);
+    ASSERT_EQ(a.dim, b.dim);
+    ASSERT_EQ(a.grid.size(), b.grid.size());
+    ASSERT_EQ(a.links.size(), b.links.size());
+    for (std::size_t c = 0; c + 1 < a.grid.size(); ++c) {
+      std::vector<const void*> fa, fb;
+      for (auto* l = a.grid[c]; l != a.grid[c + 1]; ++l) fa.push_back(l->Elem());
+      for (auto* l = b.grid[c]; l != b.grid[c + 1]; ++l) fb.push_back(l->Elem());
+      std::sort(fa.begin(), fa.end());
+      std::sort(fb.begin(), fb.end());
+      ASSERT_EQ(fa, fb) << "cell " << c;
+    }
+    EXPECT_EQ(a.grid.back()->Elem(), nullptr);  // the end marker
+    EXPECT_EQ(b.grid.back()->Elem(), nullptr);
+  };
+  {
+    Grid vcgGrid, ours;
+    vcgGrid.Set(s.face.begin(), s.face.end());
+    sodt::detail::setFaceGrid(ours, s.face.begin(), s.face.end(), vcg::Box3d());
+    sameGrid(vcgGrid, ours);
+  }
+  {
+    // A cover reaching beyond the faces' box: the grid spans both, inflated
+    // by one n-th of the diagonal (n faces), with as many cells as faces.
+    vcg::Box3d cover(vcg::Point3d(-3, -0.5, -0.5), vcg::Point3d(0.5, 2, 0.5));
+    vcg::Box3d all = s.bbox;
+    all.Add(cover);
+    const double infl = all.Diag() / s.fn;
+    all.min -= vcg::Point3d(infl, infl, infl);
+    all.max += vcg::Point3d(infl, infl, infl);
+    Grid vcgGrid, ours;
+    vcgGrid.Set(s.face.begin(), s.face.end(), all, s.fn);
+    sodt::detail::setFaceGrid(ours, s.face.begin(), s.face.end(), cover);
+    sameGrid(vcgGrid, ours);
+  }
+}
+
 /// Samples far from the other surface, in cells many cell widths away from
 /// its nearest face: a sphere against an open, larger cap of a coarser
 /// sphere. The search widens round by round there; the distances must still
