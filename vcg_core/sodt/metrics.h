@@ -398,18 +398,22 @@ class DistanceSampler {
 
   /// Bit l set: link k + l has a box within sqrt(reach2) of p (or a distance
   /// that is NaN), the lanes of boxDistance2 compared as the scalar test
-  /// compares them.
-  int nearBoxes(const CoordType& p, std::size_t k, ScalarType reach2) const {
+  /// compares them; d2[l] gets that squared distance.
+  int nearBoxes(const CoordType& p, std::size_t k, ScalarType reach2, double* d2) const {
 #ifdef SODT_HAVE_LANES
-    if (simd_) return nearBoxes4(p, k, reach2);
+    if (simd_) return nearBoxes4(p, k, reach2, d2);
 #endif
     int m = 0;
-    for (int l = 0; l < lanes::kWidth; ++l) m |= !(boxDistance2(p, k + l) > reach2) << l;
+    for (int l = 0; l < lanes::kWidth; ++l) {
+      d2[l] = boxDistance2(p, k + l);
+      m |= !(d2[l] > reach2) << l;
+    }
     return m;
   }
 
 #ifdef SODT_HAVE_LANES
-  __attribute__((target("avx2"))) int nearBoxes4(const CoordType& p, std::size_t k, ScalarType reach2) const {
+  __attribute__((target("avx2"))) int nearBoxes4(const CoordType& p, std::size_t k, ScalarType reach2,
+                                                 double* out) const {
     __m256d d2 = _mm256_setzero_pd();
     for (int j = 0; j < 3; ++j) {
       const __m256d lo = _mm256_cvtps_pd(_mm_loadu_ps(&box_[j * stride_ + k]));
@@ -419,6 +423,7 @@ class DistanceSampler {
           _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(lo, q), _mm256_sub_pd(q, hi)), _mm256_setzero_pd());
       d2 = j == 0 ? _mm256_mul_pd(e, e) : _mm256_add_pd(d2, _mm256_mul_pd(e, e));
     }
+    _mm256_storeu_pd(out, d2);
     return _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_set1_pd(double(reach2)), _CMP_NGT_UQ));
   }
 #endif
@@ -442,12 +447,17 @@ class DistanceSampler {
       Link* const first = G.grid[cell];
       const int n = static_cast<int>(G.grid[cell + 1] - first);
       const std::size_t k = static_cast<std::size_t>(first - links);
+      double d2[lanes::kWidth];
       for (int g = 0; g < n; g += lanes::kWidth) {
-        const ScalarType reach = minDist * ScalarType(1 + 1e-9) + slack_;
-        int near = nearBoxes(p, k + g, reach * reach);
+        ScalarType reach = minDist * ScalarType(1 + 1e-9) + slack_;
+        int near = nearBoxes(p, k + g, reach * reach, d2);
         if (n - g < lanes::kWidth) near &= (1 << (n - g)) - 1;
         for (int l = 0; l < lanes::kWidth; ++l) {
           if (!(near >> l & 1)) continue;
+          // Against the closest distance so far, which a face before it in
+          // the group may have lowered.
+          reach = minDist * ScalarType(1 + 1e-9) + slack_;
+          if (d2[l] > reach * reach) continue;
           const auto& f = *first[g + l].Elem();
           if (!f.IsD() && exact(f, p, minDist, closest)) found = true;
         }
