@@ -16,7 +16,7 @@
 #include <sodt/mesh.h>
 #include <sodt/metrics.h>
 #include <sodt/params.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 
 #include <vcg/complex/algorithms/smooth.h>
 #include <vcg/complex/algorithms/update/bounding.h>

@@ -10,7 +10,7 @@
 #include <sodt/metrics.h>
 #include <sodt/output.h>
 #include <sodt/params.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 
 #include <algorithm>
 #include <array>

@@ -5,7 +5,7 @@
 
 #include <sodt/io.h>
 #include <sodt/metrics.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
 #include <sodt/deviation.h>
 #include <sodt/io.h>
 #include <sodt/mesh.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 
 #include <vcg/complex/append.h>
 

@@ -4,7 +4,7 @@
 #include "test_mesh.h"
 
 #include <sodt/metrics.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 
 #include <gtest/gtest.h>
 

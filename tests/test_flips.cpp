@@ -6,7 +6,7 @@
 #include <sodt/flips.h>
 #include <sodt/io.h>
 #include <sodt/metrics.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 #include <sodt/topology.h>
 
 #include <gtest/gtest.h>

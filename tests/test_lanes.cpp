@@ -6,7 +6,7 @@
 #include <sodt/io.h>
 #include <sodt/lanes.h>
 #include <sodt/local_solve.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 #include <sodt/sweep_quality.h>
 
 #include <gtest/gtest.h>

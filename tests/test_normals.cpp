@@ -3,7 +3,7 @@
 #include "test_mesh.h"
 
 #include <sodt/mesh.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/append.h>

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <sodt/io.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 #include <sodt/topology.h>
 
 #include <cmath>

@@ -13,7 +13,7 @@
 
 #include <sodt/io.h>
 #include <sodt/metrics.h>
-#include <sodt/smoother.h>
+#include <sodt/prebuilt.h>
 #include <sodt/topology.h>
 
 #include <array>
