@@ -16,7 +16,10 @@
 #include <sodt/prebuilt.h>
 #include <sodt/topology.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <limits>
@@ -452,6 +455,116 @@ TEST(ZooLoader, LongBinaryFilesAreCheckedAcrossTheReadBuffer) {
     }
   EXPECT_NE(loadError(good.substr(0, good.size() - 3)).find("the data ends inside element 'extra'"), std::string::npos);
   ::unlink(path.c_str());
+  ::rmdir(dir);
+}
+
+
+/// A rows x cols grid as text: OFF (coordinates with 17 significant digits,
+/// comments, tabs and CRLF line ends mixed in) or ASCII PLY (float-exact
+/// coordinates, a float quality per vertex). pad: spaces before the first
+/// vertex, which move every token against the scanner's block edges.
+/// xyz gets the coordinates the text holds.
+std::string gridText(bool off, int rows, int cols, int pad, std::vector<std::array<double, 3>>& xyz) {
+  const int nv = (rows + 1) * (cols + 1), nf = 2 * rows * cols;
+  std::string t = off ? "OFF\n# a grid\n" + std::to_string(nv) + " " + std::to_string(nf) + " 0\n"
+                      : "ply\nformat ascii 1.0\nelement vertex " + std::to_string(nv) +
+                            "\nproperty float x\nproperty float y\nproperty float z\nproperty float quality\n"
+                            "element face " + std::to_string(nf) +
+                            "\nproperty list uchar int vertex_indices\nend_header\n";
+  t.append(static_cast<std::size_t>(pad), ' ');
+  xyz.clear();
+  char buf[64];
+  for (int r = 0; r <= rows; ++r)
+    for (int c = 0; c <= cols; ++c) {
+      const int i = r * (cols + 1) + c;
+      // OFF: values with all their digits; PLY: eighths, which a float holds.
+      const double z = off ? std::sin(0.37 * i) / 3.0 : 0.125 * ((r * 7 + c * 3) % 11);
+      xyz.push_back({static_cast<double>(c), static_cast<double>(r), z});
+      std::snprintf(buf, sizeof buf, off ? "%d\t%d %.17g" : "%d %d %.9g", c, r, z);
+      t += buf;
+      if (off)
+        t += i % 3 == 0 ? "\r\n" : i % 3 == 1 ? "  # note\n" : "          \n";
+      else
+        t += i % 2 ? " 0.5                       \n" : " 0.5\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\r\n";
+    }
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const int a = r * (cols + 1) + c, b = a + 1, d = a + cols + 1, e = d + 1;
+      t += "3 " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(e) + "\n";
+      t += "3 " + std::to_string(a) + " " + std::to_string(e) + "\t" + std::to_string(d) + "\n";
+    }
+  return t;
+}
+
+/// Text files are read in blocks of 1 MB: files several blocks long load
+/// with every value as written, whichever tokens straddle the blocks'
+/// edges, a token longer than a block is read whole, and a bad value or a
+/// cut past the first block is found and named, with its line in OFF.
+TEST(ZooLoader, LongTextFilesAreReadAcrossTheScannerBlocks) {
+  char dir[] = "/tmp/sodt_zoo_text_XXXXXX";
+  ASSERT_NE(::mkdtemp(dir), nullptr);
+  const int rows = 180, cols = 180;  // 32761 vertices and 64800 faces: the faces start past the first block
+  auto load = [&](const std::string& name, const std::string& text, MeshD& m) -> std::string {
+    const std::string path = std::string(dir) + "/" + name;
+    sodt_zoo::writeText(path, text);
+    std::string error;
+    try {
+      sodt::loadMesh(path, m);
+    } catch (const sodt::InvalidInput& e) {
+      error = e.what();
+    }
+    ::unlink(path.c_str());
+    return error;
+  };
+  for (const bool off : {true, false}) {
+    const std::string name = off ? "grid.off" : "grid.ply";
+    for (const int pad : {0, 1, 2, 3, 5, 8}) {
+      SCOPED_TRACE(name + ", pad " + std::to_string(pad));
+      std::vector<std::array<double, 3>> xyz;
+      const std::string text = gridText(off, rows, cols, pad, xyz);
+      ASSERT_GT(text.size(), std::size_t(1) << 20);
+      MeshD m;
+      ASSERT_EQ(load(name, text, m), "");
+      ASSERT_EQ(m.vn, static_cast<int>(xyz.size()));
+      ASSERT_EQ(m.fn, 2 * rows * cols);
+      int wrong = 0;
+      for (std::size_t i = 0; i < xyz.size(); ++i)
+        for (int k = 0; k < 3; ++k) wrong += !sodt_zoo::sameBits(m.vert[i].P()[k], xyz[i][k]);
+      EXPECT_EQ(wrong, 0);
+      // The last face is (a, e, d) of the last quad.
+      const int a = (rows - 1) * (cols + 1) + cols - 1;
+      const MeshD::FaceType& f = m.face.back();
+      EXPECT_EQ(f.cV(0) - &m.vert[0], a);
+      EXPECT_EQ(f.cV(1) - &m.vert[0], a + cols + 2);
+      EXPECT_EQ(f.cV(2) - &m.vert[0], a + cols + 1);
+    }
+    std::vector<std::array<double, 3>> xyz;
+    const std::string text = gridText(off, rows, cols, 0, xyz);
+    const std::size_t faces = text.find("\n3 0 1 " + std::to_string(cols + 2) + "\n") + 1;
+    ASSERT_GT(faces, std::size_t(1) << 20);  // the faces start in the second block
+    MeshD m;
+    // A cut in the faces, past the first block.
+    const std::string cut = load(name, text.substr(0, text.size() - 10), m);
+    EXPECT_NE(cut.find(off ? "unexpected end of file in face" : "the data ends inside element 'face'"),
+              std::string::npos) << cut;
+    // A bad index in the faces.
+    std::string bad = text;
+    bad.insert(faces + 2, "1x");
+    const std::string named = load(name, bad, m);
+    if (off) {
+      const long line = static_cast<long>(std::count(text.begin(), text.begin() + faces, '\n')) + 1;
+      EXPECT_NE(named.find("at line " + std::to_string(line) + ": face 0: expected a vertex index, got '1x0'"),
+                std::string::npos) << named;
+    } else {
+      EXPECT_NE(named.find("malformed integer '1x0'"), std::string::npos) << named;
+    }
+    // A token longer than two blocks: 2.5 million zeros before a value.
+    std::string longToken = text;
+    longToken.insert(faces + 2, std::string(2500000, '0'));
+    ASSERT_EQ(load(name, longToken, m), "");
+    EXPECT_EQ(m.face[0].cV(0) - &m.vert[0], 0);
+    EXPECT_EQ(m.face[0].cV(1) - &m.vert[0], 1);
+  }
   ::rmdir(dir);
 }
 

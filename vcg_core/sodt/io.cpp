@@ -23,6 +23,7 @@
 #include <sstream>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
@@ -62,70 +63,180 @@ long long fileSize(const std::string& path) {
 // ---------------------------------------------------------------------------
 // OFF reading
 
-/// Whitespace tokens of a text file, line by line, '#' starting a comment.
-class OffTokens {
- public:
-  explicit OffTokens(std::istream& in) : in_(in) {}
+/// Whitespace as std::isspace classifies it in the C locale (and as an
+/// istream's >> skips it).
+inline bool isSpace(char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
 
-  /// Next token, crossing line ends; false at end of file.
+/// The whitespace-separated tokens of a text stream, read in large blocks:
+/// the tokenizer of the OFF reader and of the ASCII PLY check. Lines end at
+/// '\n'; with comments, a '#' ends a token and starts a comment that runs
+/// to the end of its line. Blocks, with no library call per character and
+/// no string per token, keep the tokenizing cheaper than the parsing of the
+/// numbers themselves.
+class TextScanner {
+ public:
+  TextScanner(std::istream& in, bool comments) : in_(in), comments_(comments), buf_(kBlock + 1, '\0') {}
+
+  /// Next token, crossing line ends: [p, p + n), valid until the next call
+  /// and followed by a character that ends it (whitespace, '#' with
+  /// comments, or '\0' at the end of the stream), so that strtod and the
+  /// like stop there; false at the end of the stream.
+  bool next(const char*& p, std::size_t& n) {
+    if (!skipTo(true)) {
+      tokenLine_ = lines_ + (midLine_ ? 1 : 0);  // the last line, as getline counts them
+      return false;
+    }
+    return take(p, n);
+  }
   bool next(std::string& tok) {
-    while (pos_ == tokens_.size())
-      if (!readLine()) return false;
-    tok = tokens_[pos_++];
+    const char* p = nullptr;
+    std::size_t n = 0;
+    if (!next(p, n)) return false;
+    tok.assign(p, n);
     return true;
   }
-  /// Drops what is left of the current line (colours, texture coordinates).
-  void skipRestOfLine() { pos_ = tokens_.size(); }
-  /// Takes what is left of the current line.
+  /// Drops what is left of the current line, its '\n' included.
+  void skipRestOfLine() {
+    for (;;) {
+      if (at_ == end_ && !fill()) return;
+      const char* nl = static_cast<const char*>(std::memchr(buf_.data() + at_, '\n', end_ - at_));
+      if (nl) {
+        at_ = static_cast<std::size_t>(nl - buf_.data()) + 1;
+        newLine();
+        return;
+      }
+      at_ = end_;
+      midLine_ = true;
+    }
+  }
+  /// Takes the tokens left on the current line and its '\n'.
   std::vector<std::string> restOfLine() {
-    std::vector<std::string> r(tokens_.begin() + static_cast<std::ptrdiff_t>(pos_), tokens_.end());
-    pos_ = tokens_.size();
+    std::vector<std::string> r;
+    const char* p = nullptr;
+    std::size_t n = 0;
+    while (skipTo(false)) {
+      take(p, n);
+      r.emplace_back(p, n);
+    }
     return r;
   }
-  long line() const { return line_; }
+  /// The line of the last token, or after the end of the stream the last line.
+  long line() const { return tokenLine_; }
 
  private:
-  bool readLine() {
-    std::string s;
-    if (!std::getline(in_, s)) return false;
-    ++line_;
-    const std::size_t hash = s.find('#');
-    if (hash != std::string::npos) s.erase(hash);
-    tokens_.clear();
-    pos_ = 0;
-    std::size_t i = 0;
-    while (i < s.size()) {
-      while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-      std::size_t j = i;
-      while (j < s.size() && !std::isspace(static_cast<unsigned char>(s[j]))) ++j;
-      if (j > i) tokens_.push_back(s.substr(i, j - i));
-      i = j;
+  static constexpr std::size_t kBlock = 1 << 20;
+
+  void newLine() {
+    ++lines_;
+    midLine_ = false;
+  }
+  bool ends(char c) const { return isSpace(c) || (comments_ && c == '#'); }
+
+  /// Reads more of the stream after [at_, end_), which moves to the front of
+  /// the buffer (growing it when that is all of it); false at the end.
+  bool fill() {
+    if (eof_) return false;
+    const std::size_t keep = end_ - at_;
+    if (keep > 0 && at_ > 0) std::memmove(buf_.data(), buf_.data() + at_, keep);
+    at_ = 0;
+    end_ = keep;
+    std::size_t room = buf_.size() - 1;  // the last byte holds the '\0' after the data
+    if (end_ == room) {
+      room *= 2;
+      buf_.resize(room + 1);
     }
+    in_.read(buf_.data() + end_, static_cast<std::streamsize>(room - end_));
+    const std::size_t got = static_cast<std::size_t>(in_.gcount());
+    end_ += got;
+    buf_[end_] = '\0';
+    if (got == 0) eof_ = true;
+    return got > 0;
+  }
+
+  /// Skips whitespace and comments up to the next token (crossLines) or to
+  /// the next token of this line (else: then a '\n' reached is consumed and
+  /// the answer is false); false at the end of the stream.
+  bool skipTo(bool crossLines) {
+    for (;;) {
+      if (at_ == end_ && !fill()) return false;
+      const char c = buf_[at_];
+      if (c == '\n') {
+        ++at_;
+        newLine();
+        if (!crossLines) return false;
+      } else if (comments_ && c == '#') {
+        skipRestOfLine();
+        if (!crossLines) return false;
+      } else if (isSpace(c)) {
+        ++at_;
+        midLine_ = true;
+      } else {
+        return true;
+      }
+    }
+  }
+
+  /// The token starting at at_.
+  bool take(const char*& p, std::size_t& n) {
+    midLine_ = true;
+    tokenLine_ = lines_ + 1;
+    std::size_t j = at_;
+    for (;;) {
+      while (j < end_ && !ends(buf_[j])) ++j;
+      if (j < end_ || eof_) break;
+      const std::size_t done = j - at_;
+      const bool more = fill();
+      j = done;  // fill() moved the token to the front
+      if (!more) break;
+    }
+    p = buf_.data() + at_;
+    n = j - at_;
+    at_ = j;
     return true;
   }
 
   std::istream& in_;
-  std::vector<std::string> tokens_;
-  std::size_t pos_ = 0;
-  long line_ = 0;
+  bool comments_;
+  std::vector<char> buf_;
+  std::size_t at_ = 0, end_ = 0;
+  bool eof_ = false;
+  long lines_ = 0;         ///< '\n' consumed
+  bool midLine_ = false;   ///< characters consumed after the last '\n'
+  long tokenLine_ = 0;
 };
 
-bool parseDouble(const std::string& s, double& out) {
-  if (s.empty()) return false;
-  errno = 0;
+/// strtod's reading of the characters [p, p + n), which must be followed by
+/// one that cannot continue a number (TextScanner's tokens are; a string's
+/// terminating '\0' is): true when all n make one number. Overflow gives
+/// +-HUGE_VAL, which the non-finite check reports by vertex.
+bool parseDouble(const char* p, std::size_t n, double& out) {
+  if (n == 0) return false;
   char* end = nullptr;
-  out = std::strtod(s.c_str(), &end);
-  // Overflow gives +-HUGE_VAL, which the non-finite check reports by vertex.
-  return end == s.c_str() + s.size();
+  out = std::strtod(p, &end);
+  return end == p + n;
 }
 
-bool parseLong(const std::string& s, long long& out) {
-  if (s.empty()) return false;
-  errno = 0;
-  char* end = nullptr;
-  out = std::strtoll(s.c_str(), &end, 10);
-  return end == s.c_str() + s.size() && errno == 0;
+bool parseDouble(const std::string& s, double& out) { return parseDouble(s.c_str(), s.size(), out); }
+
+/// A decimal integer [+-]digits in the range of long long (as strtoll
+/// accepts one in full without ERANGE).
+bool parseLong(const char* p, std::size_t n, long long& out) {
+  const bool negative = n > 0 && p[0] == '-';
+  std::size_t i = n > 0 && (p[0] == '-' || p[0] == '+') ? 1 : 0;
+  if (i == n) return false;
+  const unsigned long long limit =
+      negative ? 0ull - static_cast<unsigned long long>(LLONG_MIN) : static_cast<unsigned long long>(LLONG_MAX);
+  unsigned long long v = 0;
+  for (; i < n; ++i) {
+    const unsigned d = static_cast<unsigned>(static_cast<unsigned char>(p[i])) - '0';
+    if (d > 9 || v > (limit - d) / 10) return false;
+    v = v * 10 + d;
+  }
+  out = negative ? (v == limit ? LLONG_MIN : -static_cast<long long>(v)) : static_cast<long long>(v);
+  return true;
 }
+
+bool parseLong(const std::string& s, long long& out) { return parseLong(s.data(), s.size(), out); }
 
 /// Positions and triangles read from an OFF file.
 struct OffData {
@@ -156,7 +267,7 @@ bool parseOffColor(const std::vector<std::string>& t, std::size_t n, unsigned ch
 void readOff(const std::string& path, OffData& d) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput("cannot open " + quoted(path) + ": " + std::strerror(errno));
-  OffTokens t(in);
+  TextScanner t(in, true);
   auto fail = [&](const std::string& what) {
     throw InvalidInput(quoted(path) + ": OFF parse error at line " + std::to_string(t.line()) + ": " +
                        what);
@@ -193,14 +304,16 @@ void readOff(const std::string& path, OffData& d) {
   const long long cap = 1 << 20;
   d.xyz.reserve(static_cast<std::size_t>(3 * std::min(nv, cap)));
   const bool lineBased = d.color || texcoords;  // colour counts vary: one vertex per line
+  const char* p = nullptr;  // the token [p, p + n) (see TextScanner::next)
+  std::size_t n = 0;
   for (long long i = 0; i < nv; ++i) {
     for (int k = 0; k < (normals ? 6 : 3); ++k) {
-      if (!t.next(tok))
+      if (!t.next(p, n))
         throw InvalidInput(quoted(path) + ": unexpected end of file in vertex " + std::to_string(i) +
                            " of " + std::to_string(nv));
       double x = 0;
-      if (!parseDouble(tok, x))
-        fail("vertex " + std::to_string(i) + ": expected a number, got '" + tok + "'");
+      if (!parseDouble(p, n, x))
+        fail("vertex " + std::to_string(i) + ": expected a number, got '" + std::string(p, n) + "'");
       if (k < 3) d.xyz.push_back(x);
     }
     if (lineBased) {
@@ -215,28 +328,30 @@ void readOff(const std::string& path, OffData& d) {
   d.tri.reserve(static_cast<std::size_t>(3 * std::min(nf, cap)));
   std::vector<int> poly;
   for (long long f = 0; f < nf; ++f) {
-    long long n = 0;
-    if (!t.next(tok))
+    long long corners = 0;
+    if (!t.next(p, n))
       throw InvalidInput(quoted(path) + ": unexpected end of file in face " + std::to_string(f) + " of " +
                          std::to_string(nf));
-    if (!parseLong(tok, n)) fail("face " + std::to_string(f) + ": expected a corner count, got '" + tok + "'");
-    if (n < 3 || n > nv)
-      fail("face " + std::to_string(f) + " has " + std::to_string(n) + " corners");
+    if (!parseLong(p, n, corners))
+      fail("face " + std::to_string(f) + ": expected a corner count, got '" + std::string(p, n) + "'");
+    if (corners < 3 || corners > nv)
+      fail("face " + std::to_string(f) + " has " + std::to_string(corners) + " corners");
     poly.clear();
-    for (long long k = 0; k < n; ++k) {
+    for (long long k = 0; k < corners; ++k) {
       long long idx = 0;
-      if (!t.next(tok))
+      if (!t.next(p, n))
         throw InvalidInput(quoted(path) + ": unexpected end of file in face " + std::to_string(f) +
                            " of " + std::to_string(nf));
-      if (!parseLong(tok, idx)) fail("face " + std::to_string(f) + ": expected a vertex index, got '" + tok + "'");
+      if (!parseLong(p, n, idx))
+        fail("face " + std::to_string(f) + ": expected a vertex index, got '" + std::string(p, n) + "'");
       if (idx < 0 || idx >= nv)
         fail("face " + std::to_string(f) + ": vertex index " + std::to_string(idx) + " out of range [0, " +
              std::to_string(nv) + ")");
       poly.push_back(static_cast<int>(idx));
     }
     t.skipRestOfLine();  // face colour
-    if (n > 3) d.polygons = true;
-    for (long long k = 1; k + 1 < n; ++k) {  // fan
+    if (corners > 3) d.polygons = true;
+    for (long long k = 1; k + 1 < corners; ++k) {  // fan
       d.tri.push_back(poly[0]);
       d.tri.push_back(poly[static_cast<std::size_t>(k)]);
       d.tri.push_back(poly[static_cast<std::size_t>(k + 1)]);
@@ -306,6 +421,7 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
     std::string countType, valueType;
     int countSize = 0, valueSize = 0;
     bool countSigned = false, valueSigned = false;
+    bool countFloat = false, valueFloat = false;  ///< ASCII values read as numbers, not integers
     bool isIndex = false;
     bool faceValues = false;  ///< a face 'color' or 'texcoord' list (see below)
     std::string name;
@@ -324,6 +440,9 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
   };
   auto isSigned = [](const std::string& t) {
     return t == "char" || t == "short" || t == "int" || t == "int8" || t == "int16" || t == "int32";
+  };
+  auto isFloatType = [](const std::string& t) {
+    return t == "float" || t == "double" || t == "float32" || t == "float64";
   };
   std::vector<Elem> elems;
   std::string line, format;
@@ -375,6 +494,8 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
         fail("unknown property type on line " + std::to_string(lineNo));
       pr.countSigned = isSigned(pr.countType);
       pr.valueSigned = isSigned(pr.valueType);
+      pr.countFloat = isFloatType(pr.countType);
+      pr.valueFloat = isFloatType(pr.valueType);
       pr.isIndex = pr.list && (name == "vertex_indices" || name == "vertex_index");
       pr.faceValues = elems.back().name == "face" && (name == "color" || name == "texcoord");
       pr.name = name;
@@ -421,39 +542,39 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
   // integer as "3" then ".0". Tokens it would split that way would put every
   // later value out of step with this check (and, in faces, hand vcglib
   // unchecked vertex indices), so each token must be one plain number.
-  auto plainNumber = [](const std::string& t, bool integer) {
+  auto plainNumber = [](const char* t, std::size_t size, bool integer) {
     std::size_t i = 0;
-    if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+    if (i < size && (t[i] == '+' || t[i] == '-')) ++i;
     std::size_t digits = 0;
-    while (i < t.size() && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
-    if (integer) return digits > 0 && i == t.size();
+    while (i < size && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
+    if (integer) return digits > 0 && i == size;
     if (digits == 0) {  // scanf also reads nan and inf (the loader then refuses them by name)
-      std::string w = t.substr(i);
+      std::string w(t + i, size - i);
       for (char& c : w) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
       if (w == "nan" || w == "inf" || w == "infinity") return true;
     }
-    if (i < t.size() && t[i] == '.') {
+    if (i < size && t[i] == '.') {
       ++i;
-      while (i < t.size() && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
+      while (i < size && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
     }
     if (digits == 0) return false;
-    if (i < t.size() && (t[i] == 'e' || t[i] == 'E')) {
+    if (i < size && (t[i] == 'e' || t[i] == 'E')) {
       ++i;
-      if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+      if (i < size && (t[i] == '+' || t[i] == '-')) ++i;
       std::size_t exp = 0;
-      while (i < t.size() && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++exp;
+      while (i < size && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++exp;
       if (exp == 0) return false;
     }
-    return i == t.size();
+    return i == size;
   };
-  auto isFloatType = [](const std::string& t) {
-    return t == "float" || t == "double" || t == "float32" || t == "float64";
+  auto checkToken = [&](const char* t, std::size_t size, bool floatType) {
+    if (!plainNumber(t, size, !floatType))
+      fail("malformed " + std::string(floatType ? "number" : "integer") + " '" +
+           std::string(t, std::min<std::size_t>(size, 40)) + "' in the data");
   };
-  auto checkToken = [&](const std::string& t, const std::string& type) {
-    if (!plainNumber(t, !isFloatType(type)))
-      fail("malformed " + std::string(isFloatType(type) ? "number" : "integer") + " '" + t.substr(0, 40) +
-           "' in the data");
-  };
+  // An ASCII body is read by a scanner of its own (TextScanner).
+  std::unique_ptr<TextScanner> text;
+  if (ascii) text.reset(new TextScanner(in, false));
   // The binary body is read through a buffer of its own: a stream read per
   // value cost more than everything this walk checks.
   std::vector<char> buf(ascii ? 0 : 1 << 16);
@@ -485,15 +606,32 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
     }
     return true;
   };
-  auto readInt = [&](const std::string& type, int size, bool sign, long long& out) -> bool {
+  auto readInt = [&](bool floatType, int size, bool sign, long long& out) -> bool {
     if (ascii) {
-      std::string t;
-      if (!(in >> t)) return false;
-      checkToken(t, type);
+      const char* t = nullptr;
+      std::size_t n = 0;
+      if (!text->next(t, n)) return false;
+      checkToken(t, n, floatType);
+      if (!floatType) {
+        // [+-]digits (checkToken): read exactly, -1 beyond 4e9 as below.
+        std::size_t i = t[0] == '+' || t[0] == '-' ? 1 : 0;
+        while (i + 1 < n && t[i] == '0') ++i;
+        if (n - i > 10) {
+          out = -1;
+          return true;
+        }
+        long long v = 0;
+        for (; i < n; ++i) v = 10 * v + (t[i] - '0');
+        out = v > 4000000000LL ? -1 : t[0] == '-' ? -v : v;
+        return true;
+      }
+      // The value as strtod reads it (the token is followed by whitespace
+      // or '\0'); -1 when it is not a usable count or index (not finite, or
+      // beyond 4e9).
       char* end = nullptr;
-      const double d = std::strtod(t.c_str(), &end);
-      if (end == t.c_str() || !std::isfinite(d) || std::abs(d) > 4e9) {
-        out = -1;  // not a usable count or index
+      const double d = std::strtod(t, &end);
+      if (end == t || !std::isfinite(d) || std::abs(d) > 4e9) {
+        out = -1;
         return true;
       }
       out = static_cast<long long>(d);
@@ -509,12 +647,13 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       out = static_cast<long long>(u);
     return true;
   };
-  auto skip = [&](long long values, const std::string& type, int size) -> bool {
+  auto skip = [&](long long values, bool floatType, int size) -> bool {
     if (ascii) {
-      std::string t;
+      const char* t = nullptr;
+      std::size_t n = 0;
       for (long long k = 0; k < values; ++k) {
-        if (!(in >> t)) return false;
-        checkToken(t, type);
+        if (!text->next(t, n)) return false;
+        checkToken(t, n, floatType);
       }
       return true;
     }
@@ -557,18 +696,18 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
     for (long long i = 0; i < e.count; ++i)
       for (const Prop& pr : e.props) {
         if (!pr.list) {
-          if (!skip(1, pr.valueType, pr.valueSize)) truncated(e);
+          if (!skip(1, pr.valueFloat, pr.valueSize)) truncated(e);
           continue;
         }
         long long n = 0;
-        if (!readInt(pr.countType, pr.countSize, pr.countSigned, n)) truncated(e);
+        if (!readInt(pr.countFloat, pr.countSize, pr.countSigned, n)) truncated(e);
         if (isFace && pr.isIndex) {
           if (n < 3 || n > 255)
             fail("face " + std::to_string(i) + " has " + (n < 0 ? std::string("an invalid number of") : std::to_string(n)) +
                  " corners; faces need 3 to 255 corners");
           for (long long k = 0; k < n; ++k) {
             long long idx = 0;
-            if (!readInt(pr.valueType, pr.valueSize, pr.valueSigned, idx)) truncated(e);
+            if (!readInt(pr.valueFloat, pr.valueSize, pr.valueSigned, idx)) truncated(e);
             if (idx < 0 || idx >= vertices)
               fail("face " + std::to_string(i) + " has a vertex index out of range");
           }
@@ -591,7 +730,7 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
         if (!ascii && n * pr.valueSize > 512)
           fail(e.name + " " + std::to_string(i) + " has " + std::to_string(n) + " '" + pr.name +
                "' values, more than the reader can skip (512 bytes)");
-        if (!skip(n, pr.valueType, pr.valueSize)) truncated(e);
+        if (!skip(n, pr.valueFloat, pr.valueSize)) truncated(e);
       }
   }
 }
