@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 #include <string>
 #include <vector>
@@ -36,33 +37,67 @@ std::vector<long long> counters(const sodt::SodtStats& s) {
 
 }  // namespace
 
-TEST(Colouring, NeighboursNeverShareAColourAndEveryVertexAppearsOnce) {
+TEST(Colouring, NeighboursNeverShareAPhaseAndEveryVertexAppearsOnce) {
   MeshD m;
   loadBundled(m, "blobs_mc.ply");
   const sodt::RingTopology topo = sodt::buildRingTopology(m);
   std::vector<int> active;
   for (int i = 0; i < static_cast<int>(m.vert.size()); ++i)
     if (topo.kind[i] == sodt::VertexKind::Interior) active.push_back(i);
-  const sodt::SweepPlan plan = sodt::colourVertices(topo, active);
-  ASSERT_EQ(plan.order.size(), active.size());
-  EXPECT_EQ(std::set<int>(plan.order.begin(), plan.order.end()), std::set<int>(active.begin(), active.end()));
+  int maxValence = 0;
+  for (int v : active) maxValence = std::max(maxValence, topo.ringSize(v));
+  // Phase of every vertex in the plan without tiles: its colour.
   std::vector<int> colour(m.vert.size(), -1);
-  for (std::size_t c = 0; c + 1 < plan.colourBegin.size(); ++c)
-    for (int j = plan.colourBegin[c]; j < plan.colourBegin[c + 1]; ++j) colour[plan.order[j]] = int(c);
-  int maxValence = 0, conflicts = 0;
-  for (int v : active) {
-    maxValence = std::max(maxValence, topo.ringSize(v));
-    for (int k = topo.ringBegin[v]; k < topo.ringBegin[v + 1]; ++k) conflicts += colour[topo.ringIdx[k]] == colour[v];
+  for (int tile : {0, 7, 500, 2048}) {
+    const sodt::SweepPlan plan = sodt::colourVertices(topo, active, tile);
+    const std::string what = "tile " + std::to_string(tile);
+    ASSERT_EQ(plan.order.size(), active.size()) << what;
+    EXPECT_EQ(std::set<int>(plan.order.begin(), plan.order.end()), std::set<int>(active.begin(), active.end()))
+        << what;
+    ASSERT_EQ(plan.phaseBegin.front(), 0) << what;
+    ASSERT_EQ(plan.phaseBegin.back(), static_cast<int>(plan.order.size())) << what;
+    std::vector<int> phase(m.vert.size(), -1);
+    const int phases = static_cast<int>(plan.phaseBegin.size()) - 1;
+    for (int c = 0; c < phases; ++c) {
+      EXPECT_LT(plan.phaseBegin[c], plan.phaseBegin[c + 1]) << what << ": empty phase " << c;
+      for (int j = plan.phaseBegin[c]; j < plan.phaseBegin[c + 1]; ++j) phase[plan.order[j]] = c;
+    }
+    int conflicts = 0;
+    for (int v : active)
+      for (int k = topo.ringBegin[v]; k < topo.ringBegin[v + 1]; ++k) conflicts += phase[topo.ringIdx[k]] == phase[v];
+    EXPECT_EQ(conflicts, 0) << what;
+    if (tile == 0) {
+      colour = phase;
+      EXPECT_GE(phases, 3);  // a triangle mesh needs at least three
+      EXPECT_LE(phases, maxValence + 1);
+      std::printf("blobs_mc: %zu vertices in %d colours (max valence %d)\n", active.size(), phases, maxValence);
+      continue;
+    }
+    // Tile by tile, one colour of one tile per phase, ascending within it.
+    int tileOutOfOrder = 0, mixedPhases = 0, unsorted = 0;
+    for (int c = 0; c < phases; ++c) {
+      const int first = plan.order[plan.phaseBegin[c]];
+      if (c > 0 && first / tile < plan.order[plan.phaseBegin[c] - 1] / tile) ++tileOutOfOrder;
+      for (int j = plan.phaseBegin[c] + 1; j < plan.phaseBegin[c + 1]; ++j) {
+        const int v = plan.order[j];
+        mixedPhases += v / tile != first / tile || colour[v] != colour[first];
+        unsorted += v < plan.order[j - 1];
+      }
+    }
+    EXPECT_EQ(tileOutOfOrder, 0) << what;
+    EXPECT_EQ(mixedPhases, 0) << what;
+    EXPECT_EQ(unsorted, 0) << what;
+    const int colours = *std::max_element(colour.begin(), colour.end()) + 1;
+    const int tiles = (active.back() / tile) - (active.front() / tile) + 1;
+    EXPECT_LE(phases, tiles * colours) << what;
+    EXPECT_GT(phases, tile < static_cast<int>(active.size()) / 2 ? colours : 0) << what;
   }
-  EXPECT_EQ(conflicts, 0);
-  const int colours = static_cast<int>(plan.colourBegin.size()) - 1;
-  EXPECT_GE(colours, 3);  // a triangle mesh needs at least three
-  EXPECT_LE(colours, maxValence + 1);
-  std::printf("blobs_mc: %zu vertices in %d colours (max valence %d)\n", active.size(), colours, maxValence);
 }
 
 TEST(Parallel, ResultsAreBitIdenticalForEveryThreadCount) {
-  // blobs_mc's colours hold ~1000 vertices each, enough to be split between threads.
+  // blobs_mc's colours hold ~1000 vertices each, enough to be split between
+  // threads; the guarded runs' phases (one colour of a tile of 2048) a few
+  // hundred, split from 128 on.
   MeshD input;
   loadBundled(input, "blobs_mc.ply");
   MeshD noisy;

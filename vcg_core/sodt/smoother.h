@@ -231,11 +231,12 @@ struct SodtSmoother {
     // Gauss-Seidel by colours: no two neighbours share a colour, so the
     // vertices of one colour read only positions that stay fixed while that
     // colour is swept, and can move in any order or in parallel with the same
-    // result. A visit is a function of the positions of the vertex's star
+    // result. Guarded sweeps take the colours tile by tile (see kTileVertices). A visit is a function of the positions of the vertex's star
     // (and of data fixed for the run), so a visit that moved nothing need not
     // be repeated until something in its star moves: it is answered from the
     // previous outcome. Both keep the result independent of the thread count.
-    SweepPlan plan = colourVertices(topo, active);
+    const int tile = p.guard != Guard::None ? kTileVertices : 0;
+    SweepPlan plan = colourVertices(topo, active, tile);
     std::vector<int> lastVisit(nv, -1), movedAt(nv, -1);
     std::vector<Outcome> lastOutcome(nv, Outcome::Moved);
     // Per vertex, the input face its position was last found near (a hint
@@ -305,16 +306,17 @@ struct SodtSmoother {
     // most lanes pass it (see kLikelyLanes); with it, a lane that passes
     // usually saves a whole scalar visit, so every group is tested.
     const int likelyNeeded = laneMargins ? 0 : kLikelyLanes;
-    int phase = 0;  // colours swept so far, over all sweeps
+    int phase = 0;  // phases swept so far, over all sweeps
     // A guarded visit costs from one test to a dozen (a rejected one tries
     // every step length twice), and a thread can be held up: the threads
     // take guarded work in small chunks as they get to it. Unguarded visits
     // cost about the same and little, so they are split in equal halves.
     const bool dynamicSchedule = p.guard != Guard::None || p.algorithm == Algorithm::Odt;
+    const int minParallel = dynamicSchedule ? kMinParallelGuardedPhase : kMinParallelPhase;
 
     const auto sweepsStart = std::chrono::steady_clock::now();
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
-      for (std::size_t c = 0; c + 1 < plan.colourBegin.size(); ++c, ++phase) {
+      for (std::size_t c = 0; c + 1 < plan.phaseBegin.size(); ++c, ++phase) {
         // A visit whose outcome did not move the vertex need not be repeated
         // while nothing in its star has moved since.
         const auto still = [&](int i) {
@@ -500,7 +502,7 @@ struct SodtSmoother {
             }
           };
 #ifdef _OPENMP
-          if (threads > 1 && lanes::kWidth * ng + nr >= kMinParallelColour) {
+          if (threads > 1 && lanes::kWidth * ng + nr >= minParallel) {
 #pragma omp parallel num_threads(threads)
             {
               Scratch& sc = scratch[omp_get_thread_num()];
@@ -523,10 +525,10 @@ struct SodtSmoother {
           for (int j = 0; j < nr; ++j) visitOne(rest[j], scratch[0], nullptr, FullStep());
           continue;
         }
-        const int* vs = plan.order.data() + plan.colourBegin[c];
-        const int n = plan.colourBegin[c + 1] - plan.colourBegin[c];
+        const int* vs = plan.order.data() + plan.phaseBegin[c];
+        const int n = plan.phaseBegin[c + 1] - plan.phaseBegin[c];
 #ifdef _OPENMP
-        if (threads > 1 && n >= kMinParallelColour) {
+        if (threads > 1 && n >= minParallel) {
           if (dynamicSchedule) {
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 32)
             for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr, FullStep());
@@ -550,7 +552,7 @@ struct SodtSmoother {
         if (flipped > 0) {
           stats.flips += flipped;
           topo = buildRingTopology(faces, deleted);
-          plan = colourVertices(topo, active);
+          plan = colourVertices(topo, active, tile);
           if (useLanes) lanePlan = planLanes(plan, topo, laneable, laneGuard);
           for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
           for (Scratch& s : scratch) s.reserve(maxValence);
@@ -733,9 +735,21 @@ struct SodtSmoother {
   /// their last visit.
   static constexpr int kLikelyLanes = 3;
 
-  /// Colours with fewer vertices than this are swept by one thread: starting
-  /// the others would cost more than it saves.
-  static constexpr int kMinParallelColour = 512;
+  /// Phases with fewer vertices than this are swept by one thread: starting
+  /// the others would cost more than it saves. Guarded visits cost ten times
+  /// as much as unguarded ones, so their phases are split from fewer.
+  static constexpr int kMinParallelPhase = 512;
+  static constexpr int kMinParallelGuardedPhase = 128;
+
+  /// Guarded sweeps go through the mesh in tiles of this many consecutive
+  /// working indices (breadth-first order), colour by colour within each
+  /// tile (colourVertices). A guarded visit reads some 300 bytes besides the
+  /// positions (margins, path lengths, hints, input normals and faces), so a
+  /// tile's data stays in a core's cache while its colours are swept, where
+  /// colour by colour over the whole mesh fetched it from memory once per
+  /// colour. Fixed, not taken from the processor: the order of the visits,
+  /// and so the result, must not depend on the machine.
+  static constexpr int kTileVertices = 2048;
 
   /// The thread count a run uses: p.threads, or all hardware threads for 0;
   /// 1 when the build has no OpenMP.
@@ -938,18 +952,18 @@ struct SodtSmoother {
     return Outcome::Moved;
   }
 
-  /// The sweep plan regrouped for lanes::targets4: per colour, groups of
+  /// The sweep plan regrouped for lanes::targets4: per phase, groups of
   /// lanes::kWidth vertices of equal valence (3 to lanes::kMaxValence),
-  /// each group complete where its last member comes in the colour's order,
+  /// each group complete where its last member comes in the phase's order,
   /// then the vertices left over.
   struct LanePlan {
     std::vector<int> vertex;      ///< lanes::kWidth per group
     std::vector<int> valence;     ///< per group
     std::vector<int> table;       ///< the groups' index tables (lanes::packGroup)
     std::vector<std::size_t> tableBegin;  ///< per group, into table
-    std::vector<int> groupBegin;  ///< per colour, first group (colours + 1 entries)
+    std::vector<int> groupBegin;  ///< per phase, first group (phases + 1 entries)
     std::vector<int> rest;        ///< visited one by one
-    std::vector<int> restBegin;   ///< per colour, into rest (colours + 1 entries)
+    std::vector<int> restBegin;   ///< per phase, into rest (phases + 1 entries)
   };
 
   /// Groups ahead whose centre and ring positions a lane visit asks the
@@ -963,15 +977,15 @@ struct SodtSmoother {
   static LanePlan planLanes(const SweepPlan& plan, const RingTopology& topo, const std::vector<char>& laneable,
                             bool withFaces) {
     LanePlan lp;
-    const std::size_t colours = plan.colourBegin.size() - 1;
+    const std::size_t phases = plan.phaseBegin.size() - 1;
     lp.vertex.reserve(plan.order.size());
     lp.table.reserve(plan.order.size() + (withFaces ? 2 : 1) * topo.ringIdx.size());
     lp.rest.reserve(plan.order.size() / 8);
     lp.groupBegin.push_back(0);
     lp.restBegin.push_back(0);
     std::array<std::vector<int>, lanes::kMaxValence + 1> open;  // per valence, a group being filled
-    for (std::size_t c = 0; c < colours; ++c) {
-      for (int j = plan.colourBegin[c]; j < plan.colourBegin[c + 1]; ++j) {
+    for (std::size_t c = 0; c < phases; ++c) {
+      for (int j = plan.phaseBegin[c]; j < plan.phaseBegin[c + 1]; ++j) {
         const int v = plan.order[j], n = topo.ringSize(v);
         if (n < 3 || n > lanes::kMaxValence || !laneable[v]) {
           lp.rest.push_back(v);

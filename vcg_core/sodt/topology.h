@@ -202,17 +202,26 @@ inline RingTopology buildRingTopology(const FaceList& faces, const std::vector<c
   return topo;
 }
 
-/// An order of the vertices to sweep in which no two neighbours share a
-/// colour: colour c is order[colourBegin[c] .. colourBegin[c+1]).
+/// The order in which a sweep visits its vertices, in phases: no two
+/// vertices of one phase are ring neighbours, so a phase's visits read only
+/// positions that stay fixed while it is swept, and can run in any order or
+/// in parallel with the same result.
 struct SweepPlan {
   std::vector<int> order;
-  std::vector<int> colourBegin;
+  std::vector<int> phaseBegin;  ///< phase p is order[phaseBegin[p] .. phaseBegin[p + 1])
 };
 
-/// Greedy colouring of the given vertices (ascending index order, each gets
-/// the smallest colour none of its ring neighbours among them has). Only
-/// ring adjacency counts: vertices outside the list never move. Deterministic.
-inline SweepPlan colourVertices(const RingTopology& topo, const std::vector<int>& vertices) {
+/// Plans a sweep of the given vertices. They are coloured greedily (in
+/// ascending index order, each gets the smallest colour none of its ring
+/// neighbours among them has; only ring adjacency counts: vertices outside
+/// the list never move). With tile 0 each phase is one colour, colour by
+/// colour. With tile > 0 the indices are cut into tiles of `tile`
+/// consecutive indices and each phase is one colour within one tile, tile by
+/// tile: when indices follow the surface (breadth-first order), a sweep then
+/// works on one tile's data at a time instead of crossing the whole mesh once
+/// per colour. Within a phase, ascending index; empty phases are left out.
+/// Deterministic.
+inline SweepPlan colourVertices(const RingTopology& topo, const std::vector<int>& vertices, int tile = 0) {
   const int nv = static_cast<int>(topo.kind.size());
   std::vector<int> colour(nv, -1);
   std::vector<int> seenAt;  // seenAt[c] == v: colour c is taken by a neighbour of v
@@ -230,13 +239,21 @@ inline SweepPlan colourVertices(const RingTopology& topo, const std::vector<int>
     }
     colour[v] = c;
   }
+  // Phase key of a vertex: its tile, then its colour.
+  const std::size_t tiles = tile > 0 ? static_cast<std::size_t>(nv) / tile + 1 : 1;
+  const auto key = [&](int v) {
+    return (tile > 0 ? static_cast<std::size_t>(v / tile) * colours : 0) + static_cast<std::size_t>(colour[v]);
+  };
+  std::vector<int> start(tiles * colours + 1, 0);
+  for (int v : vertices) ++start[key(v) + 1];
   SweepPlan plan;
-  plan.colourBegin.assign(colours + 1, 0);
-  for (int v : vertices) ++plan.colourBegin[colour[v] + 1];
-  for (int c = 0; c < colours; ++c) plan.colourBegin[c + 1] += plan.colourBegin[c];
+  plan.phaseBegin.push_back(0);
+  for (std::size_t k = 0; k + 1 < start.size(); ++k) {
+    if (start[k + 1] > 0) plan.phaseBegin.push_back(plan.phaseBegin.back() + start[k + 1]);
+    start[k + 1] += start[k];
+  }
   plan.order.resize(vertices.size());
-  std::vector<int> fill(plan.colourBegin.begin(), plan.colourBegin.end() - 1);
-  for (int v : vertices) plan.order[fill[colour[v]]++] = v;
+  for (int v : vertices) plan.order[start[key(v)]++] = v;
   return plan;
 }
 
