@@ -7,9 +7,30 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
+#include <thread>
 
 namespace sodtcmp {
+
+namespace {
+
+/// The processor's model name as /proc/cpuinfo gives it, or "" where there is
+/// no such file or line: timings are only comparable on the same processor.
+std::string processorName() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.compare(0, 10, "model name") != 0) continue;
+    const std::size_t colon = line.find(':');
+    if (colon == std::string::npos) break;
+    const std::size_t first = line.find_first_not_of(" \t", colon + 1);
+    return first == std::string::npos ? std::string() : line.substr(first);
+  }
+  return std::string();
+}
+
+}  // namespace
 
 // ---------------------------------------------------------------------------
 // The paper's Tables 3 and 4
@@ -228,7 +249,11 @@ std::string markdownReport(const std::vector<MeshReport>& reports, const Options
   o << "\n";
   o << "* **Time.** In-process rows: wall time of `SodtSmoother::Apply` alone (topology, classification and "
        "sweeps; no I/O), on one thread (`threads` = 1) for every in-process run, so the times are single-core "
-       "as in the paper. Rows marked † : wall time of the whole meshlabserver run — process start, loading all "
+       "as in the paper";
+  const std::string cpu = processorName();
+  if (!cpu.empty())
+    o << " (processor: " << cpu << ", " << std::thread::hardware_concurrency() << " hardware threads)";
+  o << ". Rows marked † : wall time of the whole meshlabserver run — process start, loading all "
        "plugins, reading and writing the PLY, the filter. Each mesh also lists a no-op run (load and save, no "
        "filter) to subtract. In-process runs shorter than 1 s are repeated (up to " << opt.timingRuns
     << " runs, or until 2 s are spent) and the median is shown; MeshLab runs are single runs. The unguarded "

@@ -301,6 +301,15 @@ TEST(Cli, WritesReportAndFigures) {
   }
   EXPECT_NE(md.find("| MeshLab Taubin Smooth | 866 | 1728 |"), std::string::npos) << md;
   EXPECT_EQ(md.find("| failed: "), std::string::npos) << md;
+  // The timings name the processor they were taken on, where it is known.
+  std::string cpuinfo;
+  try {
+    cpuinfo = readFile("/proc/cpuinfo");
+  } catch (...) {
+  }
+  if (cpuinfo.find("model name") != std::string::npos) {
+    EXPECT_NE(md.find("(processor: "), std::string::npos) << md;
+  }
   // S-ODT and ODT both ran: the unguarded (paper-style) timings are reported.
   EXPECT_NE(md.find("unguarded ODT / S-ODT per sweep"), std::string::npos) << md;
   EXPECT_NE(md.find("without guard (the paper's algorithm, set-up excluded) an ODT sweep took"), std::string::npos)
