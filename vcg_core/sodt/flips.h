@@ -59,6 +59,37 @@ inline bool flipKeepsInput(const InputSurface& in, const std::vector<Vec3>& pos,
   return true;
 }
 
+namespace detail {
+
+/// Half-edge a -> b of face `face`, kept in the list of its start a.
+struct FlipHalf {
+  int to, face;
+};
+
+/// Upper bound of the rounding error of triangleMinAngleCos2 (a few units
+/// in the last place of values at most 1), with a wide safety factor.
+constexpr double kCos2Slack = 1e-12;
+
+/// True when the pair's smallest angle certainly does not grow by more than
+/// minGain: the squared cosines of the smallest angles before (faces t1, t2)
+/// and after (u1, u2) show the angle falling by more than their rounding.
+/// False says nothing (the exact test decides). Needs minGain >= 0, and
+/// squared cosines from the trigonometric corner (dot > 0, lengths > 0): the
+/// smallest angle of a triangle is the one opposite its shortest edge, which
+/// both this and triangleMinAngle pick by the same comparisons.
+inline bool flipCannotGain(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double minGain) {
+  if (!(minGain >= 0)) return false;
+  const double t1 = triangleMinAngleCos2(a, b, c), t2 = triangleMinAngleCos2(b, a, d);
+  const double u1 = triangleMinAngleCos2(a, d, c), u2 = triangleMinAngleCos2(d, b, c);
+  // 0 and 1 are also what degenerate corners give: no verdict from those.
+  const auto plain = [](double x) { return x > 0 && x < 1; };
+  if (!plain(t1) || !plain(t2) || !plain(u1) || !plain(u2)) return false;
+  // cos^2 falls as the angle grows (angles below 90 degrees).
+  return std::max(u1, u2) > std::max(t1, t2) + kCos2Slack;
+}
+
+}  // namespace detail
+
 /// One pass over all interior edges; flips every edge that qualifies, at most
 /// one edge per face per pass. An edge a-b shared by faces (a, b, c) and
 /// (b, a, d) becomes c-d, with faces (a, d, c) and (d, b, c), when
@@ -67,29 +98,61 @@ inline bool flipKeepsInput(const InputSurface& in, const std::vector<Vec3>& pos,
 /// - a and b are not both crease/corner vertices (a feature edge);
 /// - both new faces keep the orientation of the pair (no fold);
 /// - the smallest angle of the pair grows by more than rules.minGainRad.
+/// Edges are taken in the order of (a, b) with a < b, and what a flip changes
+/// (the two faces it made, the edge c-d it made) is seen by the edges after
+/// it in the same pass: the flips of a pass depend on that order.
 /// refNormal (per face, may be empty) is updated for the two new faces.
+/// flipped (may be null) gets a, b, c, d of every flip appended.
+///
+/// seed (per vertex, may be null) limits the pass to the edges with a seed
+/// among a, b, c, d. Seeded with the vertices of the flips of the pass
+/// before, on the same positions, it flips what a whole pass would: an edge
+/// that pass did not flip, with neither face made by it nor c-d flipped away
+/// by it, is judged the same again (its faces, the vertices, the existing
+/// edges that block it and the positions are all unchanged), and every edge
+/// that a flip changed in one of those ways has a flipped vertex among a, b,
+/// c, d.
 /// \return the number of flips.
 inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRules& rules,
-                    std::vector<Vec3>* refNormal = nullptr) {
-  struct HalfEdge {
-    int a, b, face;
-    bool operator<(const HalfEdge& o) const { return a < o.a || (a == o.a && b < o.b); }
-  };
-  std::vector<HalfEdge> he;
-  he.reserve(faces.tri.size() * 3);
+                    std::vector<Vec3>* refNormal = nullptr, std::vector<int>* flipped = nullptr,
+                    const std::vector<char>* seed = nullptr) {
+  using detail::FlipHalf;
+  const int nv = static_cast<int>(pos.size());
+  // The half-edges grouped by their start, each group sorted by end: a
+  // counting sort over the starts (no global sort, O(1) lookups by start).
+  std::vector<int> begin(nv + 1, 0);
   for (std::size_t f = 0; f < faces.tri.size(); ++f) {
     if (!faces.live[f]) continue;
-    const auto& t = faces.tri[f];
-    for (int j = 0; j < 3; ++j) he.push_back({t[j], t[(j + 1) % 3], static_cast<int>(f)});
+    for (int v : faces.tri[f]) ++begin[v + 1];
   }
-  std::sort(he.begin(), he.end());
-  auto find = [&he](int a, int b) -> const HalfEdge* {
-    auto it = std::lower_bound(he.begin(), he.end(), HalfEdge{a, b, -1});
-    return (it != he.end() && it->a == a && it->b == b) ? &*it : nullptr;
+  for (int v = 0; v < nv; ++v) begin[v + 1] += begin[v];
+  std::vector<FlipHalf> half(begin[nv]);
+  {
+    std::vector<int> fill(begin.begin(), begin.end() - 1);
+    for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+      if (!faces.live[f]) continue;
+      const auto& t = faces.tri[f];
+      for (int j = 0; j < 3; ++j) half[fill[t[j]]++] = {t[(j + 1) % 3], static_cast<int>(f)};
+    }
+  }
+  const auto byEnd = [](const FlipHalf& x, const FlipHalf& y) { return x.to < y.to; };
+  for (int v = 0; v < nv; ++v) {
+    FlipHalf* lo = half.data() + begin[v];
+    FlipHalf* hi = half.data() + begin[v + 1];
+    if (hi - lo <= 16) {
+      for (FlipHalf* i = lo + 1; i < hi; ++i)  // insertion sort: groups are a valence long
+        for (FlipHalf* j = i; j > lo && byEnd(*j, *(j - 1)); --j) std::swap(*j, *(j - 1));
+    } else {
+      std::sort(lo, hi, byEnd);
+    }
+  }
+  // The half-edges a -> b of the list (several for a non-manifold edge).
+  const auto range = [&](int a, int b) {
+    return std::equal_range(half.data() + begin[a], half.data() + begin[a + 1], FlipHalf{b, -1}, byEnd);
   };
-  auto multiplicity = [&he](int a, int b) {
-    auto r = std::equal_range(he.begin(), he.end(), HalfEdge{a, b, -1});
-    return static_cast<int>(r.second - r.first);
+  const auto exists = [&](int a, int b) {
+    const auto r = range(a, b);
+    return r.first != r.second;
   };
   auto isFeature = [&rules](int v) {
     if (!rules.cls) return false;
@@ -103,41 +166,50 @@ inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRul
   };
   const double cosMax = std::cos(rules.maxDihedralRad);
   std::vector<char> touched(faces.tri.size(), 0);
-  std::set<std::pair<int, int>> created;  // edges made by this pass (the sorted list is stale for them)
+  std::set<std::pair<int, int>> created;  // edges made by this pass (the grouped list is stale for them)
   int flips = 0;
-  for (const HalfEdge& e : he) {
-    if (e.a > e.b) continue;  // each edge once, from its lower end
-    const int f1 = e.face;
-    if (multiplicity(e.a, e.b) != 1 || multiplicity(e.b, e.a) != 1) continue;  // border or non-manifold edge
-    const HalfEdge* o = find(e.b, e.a);
-    if (!o) continue;
-    const int f2 = o->face;
-    if (f1 == f2 || touched[f1] || touched[f2] || !faces.flippable[f1] || !faces.flippable[f2]) continue;
-    const int a = e.a, b = e.b, c = third(f1, a, b), d = third(f2, a, b);
-    if (c < 0 || d < 0 || c == d) continue;
-    if (find(c, d) || find(d, c) || created.count({std::min(c, d), std::max(c, d)})) continue;  // exists already
-    if (isFeature(a) && isFeature(b)) continue;
-    const Vec3 n1 = doubleAreaVector(pos[a], pos[b], pos[c]), n2 = doubleAreaVector(pos[b], pos[a], pos[d]);
-    const double l1 = n1.Norm(), l2 = n2.Norm();
-    if (!(l1 > 0) || !(l2 > 0) || !((n1 * n2) > cosMax * l1 * l2)) continue;
-    const Vec3 m1 = doubleAreaVector(pos[a], pos[d], pos[c]), m2 = doubleAreaVector(pos[d], pos[b], pos[c]);
-    const Vec3 pair = n1 / l1 + n2 / l2;
-    if (!(m1 * pair > 0) || !(m2 * pair > 0)) continue;
-    const double before = pairMinAngle(pos[a], pos[b], pos[c], pos[b], pos[a], pos[d]);
-    const double after = pairMinAngle(pos[a], pos[d], pos[c], pos[d], pos[b], pos[c]);
-    if (!(after > before + rules.minGainRad)) continue;
-    if (rules.input && !flipKeepsInput(*rules.input, pos, a, b, c, d)) continue;
-    faces.tri[f1] = {a, d, c};
-    faces.tri[f2] = {d, b, c};
-    touched[f1] = touched[f2] = 1;
-    created.insert({std::min(c, d), std::max(c, d)});
-    if (refNormal && !refNormal->empty()) {
-      Vec3 r = (*refNormal)[f1] + (*refNormal)[f2];
-      const double len = r.Norm();
-      r = len > 0 ? r / len : Vec3(0, 0, 0);
-      (*refNormal)[f1] = (*refNormal)[f2] = r;
+  for (int a = 0; a < nv; ++a) {
+    for (int h = begin[a]; h < begin[a + 1]; ++h) {
+      const int b = half[h].to, f1 = half[h].face;
+      if (a > b) continue;  // each edge once, from its lower end
+      // Its faces must be untouched by this pass: the list still holds them.
+      if (touched[f1] || !faces.flippable[f1]) continue;
+      if ((h > begin[a] && half[h - 1].to == b) || (h + 1 < begin[a + 1] && half[h + 1].to == b))
+        continue;  // a -> b in two faces: non-manifold
+      const auto o = range(b, a);
+      if (o.second - o.first != 1) continue;  // border or non-manifold edge
+      const int f2 = o.first->face;
+      if (f1 == f2 || touched[f2] || !faces.flippable[f2]) continue;
+      const int c = third(f1, a, b), d = third(f2, a, b);
+      if (c < 0 || d < 0 || c == d) continue;
+      if (seed && !(*seed)[a] && !(*seed)[b] && !(*seed)[c] && !(*seed)[d]) continue;
+      const Vec3 &pa = pos[a], &pb = pos[b], &pc = pos[c], &pd = pos[d];
+      const Vec3 n1 = doubleAreaVector(pa, pb, pc), n2 = doubleAreaVector(pb, pa, pd);
+      const double l1 = n1.Norm(), l2 = n2.Norm();
+      if (!(l1 > 0) || !(l2 > 0) || !((n1 * n2) > cosMax * l1 * l2)) continue;
+      const Vec3 m1 = doubleAreaVector(pa, pd, pc), m2 = doubleAreaVector(pd, pb, pc);
+      const Vec3 pair = n1 / l1 + n2 / l2;
+      if (!(m1 * pair > 0) || !(m2 * pair > 0)) continue;
+      if (detail::flipCannotGain(pa, pb, pc, pd, rules.minGainRad)) continue;
+      const double before = pairMinAngle(pa, pb, pc, pb, pa, pd);
+      const double after = pairMinAngle(pa, pd, pc, pd, pb, pc);
+      if (!(after > before + rules.minGainRad)) continue;
+      if (exists(c, d) || exists(d, c) || created.count({std::min(c, d), std::max(c, d)})) continue;
+      if (isFeature(a) && isFeature(b)) continue;
+      if (rules.input && !flipKeepsInput(*rules.input, pos, a, b, c, d)) continue;
+      faces.tri[f1] = {a, d, c};
+      faces.tri[f2] = {d, b, c};
+      touched[f1] = touched[f2] = 1;
+      created.insert({std::min(c, d), std::max(c, d)});
+      if (refNormal && !refNormal->empty()) {
+        Vec3 r = (*refNormal)[f1] + (*refNormal)[f2];
+        const double len = r.Norm();
+        r = len > 0 ? r / len : Vec3(0, 0, 0);
+        (*refNormal)[f1] = (*refNormal)[f2] = r;
+      }
+      if (flipped) flipped->insert(flipped->end(), {a, b, c, d});
+      ++flips;
     }
-    ++flips;
   }
   return flips;
 }
