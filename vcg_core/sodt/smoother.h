@@ -258,6 +258,7 @@ struct SodtSmoother {
     // last found near; at first, the face the triangle is in the input.
     std::vector<int> slotHint = deviationGuard ? topo.ringFace : std::vector<int>();
     std::vector<Scratch> scratch(threads);
+    std::vector<int> flippedVertices;  // a, b, c, d of each flip after a sweep
     int maxValence = 0;
     for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
     for (Scratch& s : scratch) s.reserve(maxValence);
@@ -544,24 +545,61 @@ struct SodtSmoother {
       ++stats.iterations;
       if (p.flips) {
         int flipped = 0;
+        flippedVertices.clear();
+        // After the first pass, only edges around the flips of the pass
+        // before can flip (see flipPass): the others are passed over.
+        std::vector<char> seed;
         for (int pass = 0; pass < kMaxFlipPasses; ++pass) {
-          const int n = flipPass(faces, pos, flipRules, &faceNormal);
+          const std::size_t from = flippedVertices.size();
+          const int n = flipPass(faces, pos, flipRules, &faceNormal, &flippedVertices, pass > 0 ? &seed : nullptr);
           flipped += n;
           if (n == 0) break;
+          seed.assign(nv, 0);
+          for (std::size_t k = from; k < flippedVertices.size(); ++k) seed[flippedVertices[k]] = 1;
         }
         if (flipped > 0) {
           stats.flips += flipped;
+          RingTopology before = std::move(topo);
           topo = buildRingTopology(faces, deleted);
           plan = colourVertices(topo, active, tile);
           if (useLanes) lanePlan = planLanes(plan, topo, laneable, laneGuard);
           for (int i : active) maxValence = std::max(maxValence, topo.ringSize(i));
           for (Scratch& s : scratch) s.reserve(maxValence);
-          std::fill(lastVisit.begin(), lastVisit.end(), -1);  // stars changed: visit everything again
-          if (deviationGuard) {  // and check them in full
-            std::fill(pointMargin.begin(), pointMargin.end(), -1.f);
-            slotMargin.assign(topo.ringIdx.size(), -1.f);
-            slotOdo.assign(topo.ringIdx.size(), 0.f);
-            slotHint.assign(topo.ringIdx.size(), -1);
+          // Only the four vertices of a flip have a new star; every other
+          // star has the same faces, and its ring starts at its smallest
+          // neighbour as before, so what was remembered of it still holds.
+          // (Compared anyway: a star that differs is treated as new.)
+          std::vector<char> sameStar(nv, 1);
+          for (int v : flippedVertices) sameStar[v] = 0;
+          for (int v = 0; v < nv; ++v) {
+            const int n = topo.ringSize(v);
+            if (sameStar[v] && n == before.ringSize(v) && topo.kind[v] == before.kind[v]) {
+              const int from = before.ringBegin[v], to = topo.ringBegin[v];
+              sameStar[v] = std::equal(topo.ringIdx.begin() + to, topo.ringIdx.begin() + to + n,
+                                       before.ringIdx.begin() + from) &&
+                            std::equal(topo.ringFace.begin() + to, topo.ringFace.begin() + to + n,
+                                       before.ringFace.begin() + from);
+            } else {
+              sameStar[v] = 0;
+            }
+            if (!sameStar[v]) lastVisit[v] = -1;  // visit new stars again
+          }
+          if (deviationGuard) {
+            // The vertex margins depend on the vertex and its input patch
+            // alone; the star triangles' margins move to their new slots,
+            // and new stars are checked in full.
+            std::vector<float> margin(topo.ringIdx.size(), -1.f), slotOdoNew(topo.ringIdx.size(), 0.f);
+            std::vector<int> hint(topo.ringIdx.size(), -1);
+            for (int v = 0; v < nv; ++v) {
+              if (!sameStar[v]) continue;
+              const int n = topo.ringSize(v), from = before.ringBegin[v], to = topo.ringBegin[v];
+              std::copy(slotMargin.begin() + from, slotMargin.begin() + from + n, margin.begin() + to);
+              std::copy(slotOdo.begin() + from, slotOdo.begin() + from + n, slotOdoNew.begin() + to);
+              std::copy(slotHint.begin() + from, slotHint.begin() + from + n, hint.begin() + to);
+            }
+            slotMargin.swap(margin);
+            slotOdo.swap(slotOdoNew);
+            slotHint.swap(hint);
           }
         }
       }
