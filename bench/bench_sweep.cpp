@@ -79,25 +79,36 @@ bool loadMesh(MeshType& m, const std::string& path) {
   return true;
 }
 
+/// Vertex positions and face corners, so that every run starts from the
+/// input (edge flips change the faces).
 template <class MeshType>
-std::vector<typename MeshType::CoordType> positions(const MeshType& m) {
-  std::vector<typename MeshType::CoordType> p;
-  p.reserve(m.vert.size());
-  for (const auto& v : m.vert) p.push_back(v.cP());
-  return p;
+struct State {
+  std::vector<typename MeshType::CoordType> pos;
+  std::vector<int> corner;  ///< 3 per face
+};
+
+template <class MeshType>
+State<MeshType> snapshot(const MeshType& m) {
+  State<MeshType> st;
+  st.pos.reserve(m.vert.size());
+  for (const auto& v : m.vert) st.pos.push_back(v.cP());
+  for (const auto& f : m.face)
+    for (int j = 0; j < 3; ++j) st.corner.push_back(static_cast<int>(f.cV(j) - &m.vert[0]));
+  return st;
 }
 
 template <class MeshType>
-void restore(MeshType& m, const std::vector<typename MeshType::CoordType>& p) {
-  for (std::size_t i = 0; i < p.size(); ++i) m.vert[i].P() = p[i];
+void restore(MeshType& m, const State<MeshType>& st) {
+  for (std::size_t i = 0; i < st.pos.size(); ++i) m.vert[i].P() = st.pos[i];
+  for (std::size_t f = 0; f < m.face.size(); ++f)
+    for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[st.corner[3 * f + j]];
 }
 
 /// Times `run(sweeps)` on the original positions `repeats` times after one
 /// untimed warm-up, then `run(1)` once. A run is a complete call as a user
 /// makes it: set-up (topology, flags), the sweeps, bounding box and normals.
 template <class MeshType, class Run>
-Row timeMethod(MeshType& m, const std::vector<typename MeshType::CoordType>& original, const Options& o,
-               Run run) {
+Row timeMethod(MeshType& m, const State<MeshType>& original, const Options& o, Run run) {
   Row r;
   restore(m, original);
   run(o.sweeps);
@@ -124,26 +135,30 @@ void benchScalar(const std::string& scalar, const Options& o, std::vector<Row>& 
   if (!loadMesh(m, o.mesh)) std::exit(1);
   nv = m.vn;
   nf = m.fn;
-  const auto original = positions(m);
+  const State<MeshType> original = snapshot(m);
 
   // Each guard, then the default and no guard again with keepBest, which
   // measures the quality (smallest angle, 1st percentile, inverted faces)
-  // after every sweep: what that measurement adds to a sweep.
+  // after every sweep: what that measurement adds to a sweep; last the
+  // default with edge flips between the sweeps.
   struct Variant {
     sodt::Guard guard;
     bool keepBest;
+    bool flips;
   };
-  const Variant variants[] = {{sodt::Guard::Quality, false},
-                              {sodt::Guard::Fold, false},
-                              {sodt::Guard::None, false},
-                              {sodt::Guard::Quality, true},
-                              {sodt::Guard::None, true}};
+  const Variant variants[] = {{sodt::Guard::Quality, false, false},
+                              {sodt::Guard::Fold, false, false},
+                              {sodt::Guard::None, false, false},
+                              {sodt::Guard::Quality, true, false},
+                              {sodt::Guard::None, true, false},
+                              {sodt::Guard::Quality, false, true}};
   const std::size_t first = rows.size();
   for (const Variant& v : variants) {
     const sodt::Guard g = v.guard;
     sodt::SodtParams p;
     p.guard = g;
     p.keepBest = v.keepBest;
+    p.flips = v.flips;
     p.threads = o.threads;
     sodt::SodtStats full;  // counters of the last o.sweeps-sweep call
     // Apply builds its ring topology and updates normals once per call.
@@ -161,8 +176,13 @@ void benchScalar(const std::string& scalar, const Options& o, std::vector<Row>& 
                   100.0 * full.fallbackMoves / visits, 100.0 * full.rejected / visits,
                   100.0 * full.skipped / visits);
     r.scalar = scalar;
-    r.method = std::string("S-ODT Alg.1, guard ") + sodt::toString(g) + (v.keepBest ? ", keep best" : "");
+    r.method = std::string("S-ODT Alg.1, guard ") + sodt::toString(g) + (v.keepBest ? ", keep best" : "") +
+               (v.flips ? ", flips" : "");
     r.note = note;
+    if (v.flips) {
+      std::snprintf(note, sizeof note, "%lld flips in %d sweeps", full.flips, full.iterations);
+      r.note = note;
+    }
     if (v.keepBest) {
       // The same run without keepBest is among the rows above.
       for (std::size_t k = first; k < rows.size(); ++k)
