@@ -3,34 +3,56 @@
 // from SodtParams{} so the dialog, the script and the core always agree.
 #include "sodt_rich_params.h"
 
-#include <common/filter_parameter/rich_parameter_list.h>
-#include <common/meshmodel.h>
+#include "sodt_meshlab_api.h"
 
 #include <QStringList>
 
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace {
 
-// Parameter keys. They become script attributes and pymeshlab keyword
-// arguments, so they never change once released.
+/// A parameter key in the spelling of the API built against (see
+/// sodt_meshlab::kSnakeCaseKeys).
+constexpr const char* key(const char* lowerCamel, const char* lowerSnake) {
+  return sodt_meshlab::kSnakeCaseKeys ? lowerSnake : lowerCamel;
+}
+
+// Parameter keys. They become script attributes and Python keyword arguments,
+// so they never change once released.
 const char* const kAlgorithm = "algorithm";
 const char* const kIterations = "iterations";
 const char* const kGuard = "guard";
-const char* const kMaxBacktracks = "maxBacktracks";
-const char* const kLaplacianFallback = "laplacianFallback";
-const char* const kMaxDeviation = "maxDeviation";
+const char* const kMaxBacktracks = key("maxBacktracks", "max_backtracks");
+const char* const kLaplacianFallback = key("laplacianFallback", "laplacian_fallback");
+const char* const kMaxDeviation = key("maxDeviation", "max_deviation");
 const char* const kEpsilon = "epsilon";
 const char* const kEta = "eta";
-const char* const kMaxNormalStep = "maxNormalStep";
+const char* const kMaxNormalStep = key("maxNormalStep", "max_normal_step");
 const char* const kFlips = "flips";
-const char* const kFlipMaxDihedral = "flipMaxDihedral";
-const char* const kKeepBest = "keepBest";
+const char* const kFlipMaxDihedral = key("flipMaxDihedral", "flip_max_dihedral");
+const char* const kKeepBest = key("keepBest", "keep_best");
 const char* const kTolerance = "tolerance";
 const char* const kThreads = "threads";
-const char* const kSelectedOnly = "selectedOnly";
-const char* const kOutputClass = "outputClass";
-const char* const kSelectFeatures = "selectFeatures";
+const char* const kSelectedOnly = key("selectedOnly", "selected_only");
+const char* const kOutputClass = key("outputClass", "output_class");
+const char* const kSelectFeatures = key("selectFeatures", "select_features");
+
+/// MeshLab keeps float parameters as float: 0.1 typed in a dialog, a script
+/// or Python arrives as 0.100000001. Read back as the shortest decimal with a
+/// float's 7 significant digits, the value is the one the user wrote, so the
+/// plugin and the command line run with the same parameters.
+double typedValue(double storedAsFloat) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.7g", static_cast<double>(static_cast<float>(storedAsFloat)));
+  return std::strtod(buf, nullptr);
+}
+
+/// "key must be in [lo, hi] (unit), got v", naming the key as the user wrote it.
+std::string outOfRange(const char* k, const char* range, double v) {
+  return std::string(k) + " must be in " + range + ", got " + std::to_string(v);
+}
 
 /// `maxDeviation` is shown in percent of the bbox diagonal; the core takes a fraction.
 constexpr double kPercent = 100.0;
@@ -45,15 +67,32 @@ static_assert(static_cast<int>(sodt::Guard::None) == 0 && static_cast<int>(sodt:
                   static_cast<int>(sodt::Guard::Quality) == 2,
               "guardLabels() is indexed by sodt::Guard");
 
-/// Dialog entries of `algorithm`; entry i is sodt::Algorithm(i).
+/// Dialog entries of `algorithm`; entry i is sodt::Algorithm(i). With
+/// snake_case keys (MeshLab 2021.05+) they are the command line's names, so
+/// that Python passes algorithm='feature' as the CLI takes --algorithm feature.
 QStringList algorithmLabels() {
+  if (sodt_meshlab::kSnakeCaseKeys) {
+    QStringList names;
+    for (int a = 0; a <= static_cast<int>(sodt::Algorithm::Laplacian); ++a)
+      names << sodt::toString(static_cast<sodt::Algorithm>(a));
+    return names;
+  }
   return QStringList{"Basic (Algorithm 1)", "Feature-preserving (Algorithm 2)",
                      "Feature-preserving denoising (Algorithm 3)", "Reference: numerical ODT (Eq. 3)",
                      "Reference: Laplacian (Eq. 3, S'k = 1)"};
 }
 
-/// Dialog entries of `guard`; entry i is sodt::Guard(i).
-QStringList guardLabels() { return QStringList{"None (paper, literal)", "Fold", "Quality"}; }
+/// Dialog entries of `guard`; entry i is sodt::Guard(i) (the CLI's names with
+/// snake_case keys, as for algorithmLabels()).
+QStringList guardLabels() {
+  if (sodt_meshlab::kSnakeCaseKeys) {
+    QStringList names;
+    for (int g = 0; g <= static_cast<int>(sodt::Guard::Quality); ++g)
+      names << sodt::toString(static_cast<sodt::Guard>(g));
+    return names;
+  }
+  return QStringList{"None (paper, literal)", "Fold", "Quality"};
+}
 
 // Shared by both filters, so the two dialogs explain the classification alike.
 const char* const kEpsilonHelp =
@@ -185,27 +224,30 @@ sodt::SodtParams readSodtParams(const RichParameterList& list) {
   p.iterations = list.getInt(kIterations);
   p.guard = static_cast<sodt::Guard>(list.getEnum(kGuard));
   p.maxBacktracks = list.getInt(kMaxBacktracks);
+  if (p.maxBacktracks < 0 || p.maxBacktracks > 60)
+    throw sodt::InvalidInput(outOfRange(kMaxBacktracks, "[0, 60]", p.maxBacktracks));
   p.laplacianFallback = list.getBool(kLaplacianFallback);
-  const double maxDeviation = list.getFloat(kMaxDeviation);
+  const double maxDeviation = typedValue(list.getFloat(kMaxDeviation));
   if (!(maxDeviation >= 0 && maxDeviation <= kPercent))
-    throw sodt::InvalidInput("maxDeviation must be in [0, 100] (percent of the bounding-box diagonal), got " +
-                             std::to_string(maxDeviation));
+    throw sodt::InvalidInput(outOfRange(kMaxDeviation, "[0, 100] (percent of the bounding-box diagonal)",
+                                        maxDeviation));
   p.maxDeviationRel = maxDeviation / kPercent;
-  p.epsilon = list.getFloat(kEpsilon);
-  p.eta = list.getFloat(kEta);
-  p.maxNormalStepRel = list.getFloat(kMaxNormalStep);
+  p.epsilon = typedValue(list.getFloat(kEpsilon));
+  p.eta = typedValue(list.getFloat(kEta));
+  p.maxNormalStepRel = typedValue(list.getFloat(kMaxNormalStep));
+  if (!(p.maxNormalStepRel >= 0 && p.maxNormalStepRel <= 10))
+    throw sodt::InvalidInput(outOfRange(kMaxNormalStep, "[0, 10] (mean edge lengths)", p.maxNormalStepRel));
   p.flips = list.getBool(kFlips);
   // Range-checked here so that the message names the dialog's keys (the core
   // names its fields flipMaxDihedralDeg and toleranceDeg).
-  const double flipMaxDihedral = list.getFloat(kFlipMaxDihedral);
+  const double flipMaxDihedral = typedValue(list.getFloat(kFlipMaxDihedral));
   if (!(flipMaxDihedral >= 0 && flipMaxDihedral <= 90))
-    throw sodt::InvalidInput("flipMaxDihedral must be in [0, 90] (degrees), got " +
-                             std::to_string(flipMaxDihedral));
+    throw sodt::InvalidInput(outOfRange(kFlipMaxDihedral, "[0, 90] (degrees)", flipMaxDihedral));
   p.flipMaxDihedralDeg = flipMaxDihedral;
   p.keepBest = list.getBool(kKeepBest);
-  const double tolerance = list.getFloat(kTolerance);
+  const double tolerance = typedValue(list.getFloat(kTolerance));
   if (!(tolerance >= 0 && tolerance <= 180))
-    throw sodt::InvalidInput("tolerance must be in [0, 180] (degrees), got " + std::to_string(tolerance));
+    throw sodt::InvalidInput(outOfRange(kTolerance, "[0, 180] (degrees)", tolerance));
   p.toleranceDeg = tolerance;
   p.threads = list.getInt(kThreads);
   p.selectedOnly = list.getBool(kSelectedOnly);
@@ -227,8 +269,8 @@ void appendClassifyParams(RichParameterList& list) {
 
 SodtClassifyParams readClassifyParams(const RichParameterList& list) {
   SodtClassifyParams c;
-  c.epsilon = list.getFloat(kEpsilon);
-  c.eta = list.getFloat(kEta);
+  c.epsilon = typedValue(list.getFloat(kEpsilon));
+  c.eta = typedValue(list.getFloat(kEta));
   c.selectFeatures = list.getBool(kSelectFeatures);
   return c;
 }

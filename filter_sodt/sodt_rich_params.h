@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Translation between MeshLab's RichParameterList and the core's parameters: the
-// one place that spells the (stable, lowerCamelCase) parameter keys of the filters.
+// one place that spells the (stable) parameter keys of the filters, lowerCamelCase
+// for MeshLab 2020.09 and lower_snake_case for MeshLab 2021.05+ and PyMeshLab.
 #pragma once
 
 #include <sodt/params.h>
@@ -10,7 +11,10 @@ class RichParameterList;
 
 /// Appends the parameters of "S-ODT Smoothing" to a filter's parameter list.
 ///
-/// Keys, in dialog order: `algorithm` (RichEnum), `iterations` (RichInt),
+/// Keys, in dialog order, as spelled for MeshLab 2020.09 (2021.05+ spells the
+/// same keys in lower_snake_case: `max_backtracks`, `laplacian_fallback`, ...,
+/// and labels the enum entries with the CLI's names, `basic`, `feature`, ...,
+/// `none`, `fold`, `quality`): `algorithm` (RichEnum), `iterations` (RichInt),
 /// `guard` (RichEnum), `maxBacktracks` (RichInt), `laplacianFallback`
 /// (RichBool), `maxDeviation` (RichFloat, percent of the bounding-box
 /// diagonal), `epsilon` (RichFloat), `eta` (RichFloat), `maxNormalStep`
@@ -30,12 +34,15 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m);
 
 /// Reads back the core parameters appended by appendSodtParams.
 ///
-/// `maxDeviation` is converted from percent to the fraction
-/// SodtParams::maxDeviationRel. Everything else is passed through unchecked
+/// Float values are read at float precision, as the shortest decimal with 7
+/// significant digits (0.1 stays 0.1, not 0.100000001), so the plugin runs with
+/// the values the user wrote. `maxDeviation` is converted from percent to the
+/// fraction SodtParams::maxDeviationRel. Everything else is passed through unchecked
 /// (an out-of-range enum index or count coming from a script included), so
 /// that sodt::SodtParams::validate() reports it with the core's message,
 /// except the three ranges below.
-/// \throw sodt::InvalidInput when `maxDeviation` is not in [0, 100] percent,
+/// \throw sodt::InvalidInput when `maxBacktracks` is not in [0, 60],
+///        `maxDeviation` not in [0, 100] percent, `maxNormalStep` not in [0, 10],
 ///        `flipMaxDihedral` not in [0, 90] or `tolerance` not in [0, 180]
 ///        degrees: the core's message would name its own fields, not the keys.
 /// \throw MLException (a std::exception) when a key is missing from the list.

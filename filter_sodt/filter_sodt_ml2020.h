@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// MeshLab 2020.09 filter plugin exposing S-ODT surface mesh smoothing; the only
-// file pair that depends on the MeshLab version (ids, names, masks, apply).
+// The S-ODT filters as a MeshLab 2020.09 plugin (MeshFilterInterface): ids,
+// classes and the translation of sodt_filters.h to this API.
 #pragma once
 
 #include <common/interfaces.h>
@@ -13,9 +13,6 @@ class FilterSodtPlugin : public QObject, public MeshFilterInterface {
   Q_INTERFACES(MeshFilterInterface)
 
  public:
-  /// Filter ids; new filters are appended, existing values never change.
-  enum { FP_SODT_SMOOTH, FP_SODT_CLASSIFY };
-
   FilterSodtPlugin();
 
   // Keep the base-class overloads (by QAction*, by MeshDocument&) visible.
@@ -32,18 +29,9 @@ class FilterSodtPlugin : public QObject, public MeshFilterInterface {
   int getPreConditions(QAction* a) const override;
   int postCondition(QAction* a) const override;
   void initParameterSet(QAction* a, MeshModel& m, RichParameterList& par) override;
+  /// Runs the filter; never lets an exception escape (MeshLab 2020.09 would
+  /// crash on anything but std::bad_alloc): a failure sets errorMessage, is
+  /// logged (meshlabserver prints the log but not errorMessage) and returns false.
   bool applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par,
                    vcg::CallBackPos* cb) override;
-
- private:
-  /// FP_SODT_SMOOTH: validates, runs sodt::SodtSmoother on the current mesh and
-  /// logs the quality before and after. Never lets an exception escape.
-  bool applySmooth(MeshDocument& md, const RichParameterList& par, vcg::CallBackPos* cb);
-  /// FP_SODT_CLASSIFY: validates, classifies the vertices of the current mesh
-  /// (never moves them), writes class codes and colours, optionally selects
-  /// the feature vertices, logs the counts. Never lets an exception escape.
-  bool applyClassify(MeshDocument& md, const RichParameterList& par);
-  /// Sets errorMessage and also logs it (meshlabserver prints the filter log
-  /// but not errorMessage); returns false.
-  bool fail(const QString& why);
 };

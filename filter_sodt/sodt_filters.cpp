@@ -1,0 +1,416 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The S-ODT filters for both MeshLab plugin APIs: help texts, the smoothing
+// and classification runs on a MeshModel, their log lines and report.
+#include "sodt_filters.h"
+
+#include "sodt_rich_params.h"
+
+#include <sodt/classify.h>
+#include <sodt/metrics.h>
+#include <sodt/output.h>
+#include <sodt/params.h>
+#include <sodt/smoother.h>
+
+#include <vcg/complex/algorithms/update/flag.h>
+#include <vcg/complex/algorithms/update/selection.h>
+
+#include <algorithm>
+#include <climits>
+#include <cstdarg>
+#include <cstdio>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace sodt_plugin {
+namespace {
+
+/// printf into a std::string; the attribute lets the compiler check the
+/// arguments, which MeshLab's variadic Log() does not.
+__attribute__((format(printf, 1, 2))) std::string strFormat(const char* fmt, ...) {
+  char buf[1024];
+  va_list ap;
+  va_start(ap, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, ap);
+  va_end(ap);
+  return std::string(buf);
+}
+
+const char* yesNo(bool b) { return b ? "yes" : "no"; }
+
+/// "smooth 0 light grey (200, 200, 200), ..." as HTML list items, from the
+/// core's palette so that the help cannot drift from the colours written.
+QString classTableHtml() {
+  struct Row {
+    sodt::VertexClass c;
+    const char* colourName;
+    const char* meaning;
+  };
+  const Row rows[] = {
+      {sodt::VertexClass::Smooth, "light grey", "one dominant normal direction; moves in its tangent plane"},
+      {sodt::VertexClass::Crease, "blue", "two normal directions (a sharp edge); moves along the crease"},
+      {sodt::VertexClass::Corner, "red", "three normal directions (where creases meet); never moves"},
+      {sodt::VertexClass::Fixed, "yellow",
+       "on a border, non-manifold or isolated; not classified, never moves"},
+  };
+  QString html = "<ul>";
+  for (const Row& r : rows) {
+    const vcg::Color4b col = sodt::classColor(r.c);
+    html += QString("<li><b>%1</b> %2: %3 RGB (%4, %5, %6), %7</li>")
+                .arg(static_cast<int>(r.c))
+                .arg(sodt::toString(r.c))
+                .arg(r.colourName)
+                .arg(int(col[0]))
+                .arg(int(col[1]))
+                .arg(int(col[2]))
+                .arg(r.meaning);
+  }
+  return html + "</ul>";
+}
+
+/// The paper reference in the format of ML20/src/common/interfaces.h.
+const char* const kCitation =
+    "See: <br>"
+    "<i>Zhanheng Gao, Zeyun Yu, Michael Holst</i><br>"
+    "<b>\"Feature-Preserving Surface Mesh Smoothing via Suboptimal Delaunay "
+    "Triangulation\"</b><br>"
+    "Graphical Models 75 (2013) 23-38, doi:10.1016/j.gmod.2012.10.007<br>";
+
+/// One log line with the number of vertices per class.
+std::string classCounts(const sodt::Classification& c) {
+  return strFormat("%d smooth, %d crease, %d corner, %d fixed (border, non-manifold or isolated)",
+                   c.smooth(), c.crease(), c.corner(), c.fixed());
+}
+
+}  // namespace
+
+
+QString filterName(int id) {
+  switch (id) {
+    case kSmooth: return "S-ODT Smoothing";
+    case kClassify: return "S-ODT: Classify Feature Vertices";
+  }
+  return QString();
+}
+
+QString pythonFilterName(int id) {
+  switch (id) {
+    case kSmooth: return "apply_coord_sodt_smoothing";
+    case kClassify: return "compute_scalar_by_sodt_feature_class_per_vertex";
+  }
+  return QString();
+}
+
+QString filterInfo(int id) {
+  switch (id) {
+    case kSmooth:
+      return QString(
+                 "Improves the angles of a triangle mesh by moving every interior vertex, in its "
+                 "tangent plane, to the minimiser of the suboptimal Delaunay triangulation (S-ODT) "
+                 "energy of its one-ring (Eqs. 5-8 of the paper): the shape and the enclosed volume "
+                 "stay. Boundary and non-manifold vertices never move. The connectivity changes only "
+                 "with <i>Edge flips</i>, off by default as in the paper.<br><br>"
+                 "<b>Algorithm</b>: <i>basic</i> (Algorithm 1) for surfaces without sharp edges; "
+                 "<i>feature</i> (Algorithm 2) classifies the vertices once by their normal tensor "
+                 "(Eqs. 9-10, see <i>S-ODT: Classify Feature Vertices</i>): corners stay, creases "
+                 "slide along themselves; <i>denoise</i> (Algorithm 3) moves vertices on fitted "
+                 "planes and crease lines and so removes noise. The two references (numerical ODT, "
+                 "Laplacian) are for comparisons.<br><br>"
+                 "<b>Guards</b> (beyond the paper, whose literal update folds triangles on poor "
+                 "input): before a move is committed, no incident triangle may flip or collapse; "
+                 "with <i>quality</i> the smallest angle around the vertex may not decrease either; "
+                 "the vertex, its edge midpoints and face centroids must stay within <i>Max "
+                 "deviation</i> of the input surface. A vetoed step is halved, then the tangential "
+                 "Laplacian step is tried. The result is the same for any number of threads. Each "
+                 "parameter's help tells more.<br><br>"
+                 "<b>Output vertex class</b> writes the class of every vertex to its quality and "
+                 "colour:") +
+             classTableHtml() +
+             "The log (and, in PyMeshLab, the returned dictionary) reports the angles and the "
+             "enclosed volume before and after, the class counts, the move counters and the flips."
+             "<br><br>"
+             "<b>Erratum</b>: Eq. 11 and Algorithms 2-3 of the paper print the crease step as d* = "
+             "-B/(2A); the minimiser of the energy along the crease is d* = +B/(2A), which this "
+             "filter uses (the printed sign moves crease vertices uphill).<br><br>" +
+             kCitation;
+    case kClassify:
+      return QString(
+                 "Classifies every vertex as smooth, crease or corner by the eigenvalues nu1 "
+                 "&ge; nu2 &ge; nu3 of the normal tensor T = &sum; w<sub>k</sub> n<sub>k</sub> "
+                 "n<sub>k</sub><sup>T</sup> of its one-ring (Eq. 9; w<sub>k</sub> weighs the "
+                 "triangle areas and the distances of their barycentres), exactly as the "
+                 "feature-preserving algorithms of <i>S-ODT Smoothing</i> do (Eq. 10): the class "
+                 "is the largest of nu1 - nu2 (smooth), epsilon (nu2 - nu3) (crease) and "
+                 "epsilon eta nu3 (corner). The vertices never move. The class code is written to "
+                 "the vertex quality and the class colour, from a fixed palette, to the vertex "
+                 "colour:") +
+             classTableHtml() +
+             "With <i>Select feature vertices</i> exactly the crease and corner vertices end up "
+             "selected. The log reports the number of vertices per class.<br>"
+             "<br>"
+             "<b>Tuning</b>. <i>epsilon</i> (crease sensitivity, paper: 2): larger values find "
+             "more creases. Where two flat sides meet at an angle theta between their normals "
+             "(and weigh equally in the tensor), a vertex is a crease when theta &gt; "
+             "acos(epsilon / (epsilon + 2)): 60&deg; for epsilon = 2, 45&deg; for 4.83, "
+             "70.5&deg; for 1. <i>eta</i> (corner sensitivity, "
+             "paper: 2): larger values turn more crease vertices into corners. Noise makes "
+             "smooth vertices look like creases or corners; the denoising algorithm classifies "
+             "a denoised copy instead, so on noisy meshes this filter shows more features than "
+             "that algorithm uses.<br>"
+             "<br>" +
+             kCitation;
+  }
+  return QString();
+}
+
+
+int postConditionMask(int id) {
+  switch (id) {
+    case kSmooth:
+      // Positions and normals always; the vertex selection when a face
+      // selection is converted for "Affect only selection"; quality and
+      // colour with "Output vertex class"; the face-vertex references and the
+      // adjacency with "Edge flips". MM_FACEVERT and the topology bits make the
+      // GUI rebuild the rendering buffers as for a new connectivity.
+      //
+      // MM_FACENUMBER although the face count never changes: it turns off the
+      // dialog's Preview, as MeshLab's own connectivity-changing filters do.
+      // The preview's undo restores coordinates, normals, colours, quality
+      // and selection but not the faces' vertex references, so a previewed
+      // run with flips would leave the flipped faces on the restored
+      // positions (where they may fold) and the next preview or Apply would
+      // start from them.
+      return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL |
+             MeshModel::MM_VERTFLAGSELECT | MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR |
+             MeshModel::MM_FACEVERT | MeshModel::MM_VERTFACETOPO | MeshModel::MM_FACEFACETOPO |
+             MeshModel::MM_FACENUMBER;
+    case kClassify:
+      return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTFLAGSELECT;
+  }
+  return MeshModel::MM_NONE;
+}
+
+QString failureMessage(int id, const char* why) {
+  const QString name = id == kClassify ? "S-ODT Classify" : filterName(kSmooth);
+  if (why == nullptr) return name + " failed with an unknown error.";
+  return name + " failed: " + QString::fromUtf8(why);
+}
+
+namespace {
+
+/// The vertices per class, as the report's `smooth`, `crease`, `corner`, `fixed`.
+void addClassCounts(Report& r, const sodt::Classification& c) {
+  r["smooth"] = c.smooth();
+  r["crease"] = c.crease();
+  r["corner"] = c.corner();
+  r["fixed"] = c.fixed();
+}
+
+/// A counter for the report: an int when it fits (Python gets an int), else
+/// a double (PyMeshLab converts no 64-bit integer type).
+QVariant count(long long n) {
+  if (n >= INT_MIN && n <= INT_MAX) return QVariant(static_cast<int>(n));
+  return QVariant(static_cast<double>(n));
+}
+
+}  // namespace
+
+Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBackPos* cb,
+                      const LogFn& log) {
+  CMeshO& m = mm.cm;
+  bool selectionConverted = false;
+  try {
+    // Everything that can be rejected is checked before the mesh is touched.
+    const sodt::SodtParams p = readSodtParams(par);
+    const bool outputClass = readOutputClass(par);
+    p.validate();
+    if (m.fn == 0) throw sodt::InvalidInput("it needs a triangle mesh, but the current mesh has no faces.");
+    if (p.flips) {
+      // A flip rewires two faces' vertex references; the core knows nothing
+      // of per-wedge data or of the faux edges that describe polygons.
+      if (mm.hasDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_WEDGNORMAL | MeshModel::MM_WEDGCOLOR))
+        throw sodt::InvalidInput(
+            "flips would scramble the per-wedge texture coordinates, normals or colours of this mesh. "
+            "Turn 'Edge flips' off, or remove the wedge attributes first.");
+      if (mm.hasDataMask(MeshModel::MM_POLYGONAL))
+        throw sodt::InvalidInput(
+            "flips would break the polygonal faces of this mesh. Turn 'Edge flips' off, or make it a "
+            "pure triangle mesh first (filter 'Turn into a Pure-Triangular mesh').");
+    }
+
+    if (p.selectedOnly) {
+      size_t selected = vcg::tri::UpdateSelection<CMeshO>::VertexCount(m);
+      if (selected == 0 && vcg::tri::UpdateSelection<CMeshO>::FaceCount(m) > 0) {
+        // Strict: only vertices whose faces are all selected, so that no
+        // unselected face changes shape.
+        selected = vcg::tri::UpdateSelection<CMeshO>::VertexFromFaceStrict(m);
+        m.svn = int(selected);
+        selectionConverted = true;
+        log(LogLevel::Info, strFormat("S-ODT: converted the face selection to %d selected vertices", int(selected)));
+      }
+      if (selected == 0)
+        log(LogLevel::Warning, "S-ODT: 'Affect only selection' is on but nothing is selected; no vertex will move");
+    }
+
+    // The measures do not depend on the number of threads either.
+    const int measureThreads =
+        p.threads > 0 ? p.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const sodt::AngleStats before = sodt::computeAngleStats(m, measureThreads);
+    const sodt::VolumeResult volBefore = sodt::enclosedVolume(m, measureThreads);
+
+    // The faces' vertex references, to tell whether the returned state has
+    // other faces (keepBest may return a state from before the flips).
+    std::vector<const CVertexO*> faceVertsBefore;
+    if (p.flips)
+      for (const CFaceO& f : m.face)
+        for (int j = 0; j < 3; ++j) faceVertsBefore.push_back(f.IsD() ? nullptr : f.cV(j));
+
+    sodt::Classification classes;
+    const sodt::SodtStats s = sodt::SodtSmoother<CMeshO>::Apply(m, p, cb, &classes);
+    // From here on the mesh has changed: nothing below may throw.
+    selectionConverted = false;
+    long long facesChanged = 0;
+    if (p.flips)
+      for (size_t f = 0; f < m.face.size(); ++f)
+        for (int j = 0; j < 3; ++j)
+          if (!m.face[f].IsD() && m.face[f].cV(j) != faceVertsBefore[3 * f + size_t(j)]) {
+            ++facesChanged;
+            break;
+          }
+    // Flips move edges between face slots: per-face-edge border flags set
+    // before the run would now describe other edges. (The core has already
+    // rebuilt FF and VF adjacency where they are enabled.)
+    if (s.flips > 0) vcg::tri::UpdateFlags<CMeshO>::FaceBorderFromNone(m);
+    sodt_meshlab::updateBoxAndNormals(mm);
+    if (outputClass) {
+      // Without the mask the GUI neither shows nor saves the colours (and
+      // quality); both components always exist in CMeshO.
+      mm.updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
+      sodt::writeClassToQuality(m, classes);
+      sodt::colorizeByClass(m, classes);
+    }
+
+    const sodt::AngleStats after = sodt::computeAngleStats(m, s.threads);
+    sodt::VolumeResult volAfter;
+    if (volBefore.closed) volAfter = sodt::enclosedVolume(m, s.threads);
+    const double volRel =
+        volBefore.closed && volBefore.volume != 0.0 ? (volAfter.volume - volBefore.volume) / volBefore.volume : 0.0;
+
+    log(LogLevel::Info, strFormat("S-ODT: algorithm %s, guard %s, %d iterations, max backtracks %d, "
+                                  "Laplacian fallback %s, selected only %s",
+                                  sodt::toString(p.algorithm), sodt::toString(p.guard), p.iterations,
+                                  p.maxBacktracks, yesNo(p.laplacianFallback), yesNo(p.selectedOnly)));
+    if (p.algorithm != sodt::Algorithm::Basic)
+      log(LogLevel::Info, strFormat("S-ODT: epsilon %g, eta %g", p.epsilon, p.eta));
+    if (p.algorithm == sodt::Algorithm::Denoise)
+      log(LogLevel::Info, strFormat("S-ODT: max normal step %g x mean edge length", p.maxNormalStepRel));
+    else if (p.guard != sodt::Guard::None && p.maxDeviationRel > 0)
+      log(LogLevel::Info, strFormat("S-ODT: deviation guard %g%% of the bounding-box diagonal",
+                                    100.0 * p.maxDeviationRel));
+    log(LogLevel::Info, strFormat("S-ODT: min angle %.4f -> %.4f deg, max angle %.4f -> %.4f deg, "
+                                  "angles below 30 deg %.3f%% -> %.3f%%",
+                                  before.minDeg, after.minDeg, before.maxDeg, after.maxDeg,
+                                  100.0 * before.fracBelow30, 100.0 * after.fracBelow30));
+    if (volBefore.closed)
+      log(LogLevel::Info, strFormat("S-ODT: enclosed volume %.9g -> %.9g (relative change %+.2e)",
+                                    volBefore.volume, volAfter.volume, volRel));
+    else
+      log(LogLevel::Info, "S-ODT: the mesh is not closed; enclosed volume not reported");
+    log(LogLevel::Info, strFormat("S-ODT: vertex classes: %s%s", classCounts(classes).c_str(),
+                                  outputClass ? "; written to vertex quality and colour" : ""));
+    log(LogLevel::Info,
+        strFormat("S-ODT: %d sweeps over %d active vertices with %d thread%s: %lld moved, %lld backtracked, "
+                  "%lld Laplacian fallback, %lld rejected, %lld failed solves, %lld unchanged (%lld repeated "
+                  "their previous visit: nothing in their star had moved); fixed %d boundary and %d non-manifold "
+                  "vertices",
+                  s.iterations, s.activeVertices, s.threads, s.threads == 1 ? "" : "s", s.moved, s.backtracked,
+                  s.fallbackMoves, s.rejected, s.failedSolves, s.unchanged, s.skipped, s.fixedBoundary,
+                  s.fixedNonManifold));
+    if (p.flips)
+      log(LogLevel::Info,
+          strFormat("S-ODT: edge flips: %lld (max dihedral %g deg); %s", s.flips, p.flipMaxDihedralDeg,
+                    facesChanged > 0
+                        ? strFormat("the connectivity changed: %lld faces have other vertices (same vertex "
+                                    "and face counts)", facesChanged).c_str()
+                        : "the returned state has the input's connectivity"));
+    else
+      log(LogLevel::Info, "S-ODT: edge flips: off");
+    std::string ending;
+    if (s.stoppedEarly)
+      ending = strFormat("; stopped early: the last sweep raised the min angle and its 1st percentile by at "
+                         "most the tolerance %g deg", p.toleranceDeg);
+    else if (p.toleranceDeg > 0)
+      ending = strFormat("; tolerance %g deg not reached", p.toleranceDeg);
+    log(LogLevel::Info, strFormat("S-ODT: returned the state after sweep %d of %d run (keep best %s)%s",
+                                  s.returnedSweep, s.iterations, yesNo(p.keepBest), ending.c_str()));
+    if (s.cancelled) log(LogLevel::Warning, strFormat("S-ODT: cancelled after %d sweeps", s.iterations));
+
+    Report r;
+    r["vertices"] = m.vn;
+    r["faces"] = m.fn;
+    r["min_angle_before"] = before.minDeg;
+    r["min_angle_after"] = after.minDeg;
+    r["max_angle_before"] = before.maxDeg;
+    r["max_angle_after"] = after.maxDeg;
+    r["frac_below_30_before"] = before.fracBelow30;
+    r["frac_below_30_after"] = after.fracBelow30;
+    r["closed"] = volBefore.closed;
+    if (volBefore.closed) {
+      r["volume_before"] = volBefore.volume;
+      r["volume_after"] = volAfter.volume;
+      r["volume_rel_change"] = volRel;
+    }
+    addClassCounts(r, classes);
+    r["fixed_boundary"] = s.fixedBoundary;
+    r["fixed_nonmanifold"] = s.fixedNonManifold;
+    r["active_vertices"] = s.activeVertices;
+    r["sweeps"] = s.iterations;
+    r["returned_sweep"] = s.returnedSweep;
+    r["stopped_early"] = s.stoppedEarly;
+    r["cancelled"] = s.cancelled;
+    r["moved"] = count(s.moved);
+    r["backtracked"] = count(s.backtracked);
+    r["fallback_moves"] = count(s.fallbackMoves);
+    r["rejected"] = count(s.rejected);
+    r["failed_solves"] = count(s.failedSolves);
+    r["unchanged"] = count(s.unchanged);
+    r["skipped_visits"] = count(s.skipped);
+    r["flips"] = count(s.flips);
+    r["faces_changed"] = count(facesChanged);
+    r["threads"] = s.threads;
+    r["seconds"] = s.sweepSeconds;
+    return r;
+  } catch (...) {
+    // The core throws before it moves anything; undo the selection change too.
+    if (selectionConverted) {
+      vcg::tri::UpdateSelection<CMeshO>::VertexClear(m);
+      m.svn = 0;
+    }
+    throw;
+  }
+}
+
+Report applyClassify(MeshModel& mm, const RichParameterList& par, const LogFn& log) {
+  CMeshO& m = mm.cm;
+  const SodtClassifyParams p = readClassifyParams(par);
+  p.validate();
+  if (m.fn == 0) throw sodt::InvalidInput("it needs a triangle mesh, but the current mesh has no faces.");
+
+  const sodt::Classification c = sodt::classifyVertices(m, p.epsilon, p.eta);
+  mm.updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
+  sodt::writeClassToQuality(m, c);
+  sodt::colorizeByClass(m, c);
+  log(LogLevel::Info, strFormat("S-ODT classify: epsilon %g, eta %g: %s", p.epsilon, p.eta, classCounts(c).c_str()));
+  log(LogLevel::Info, "S-ODT classify: class codes written to vertex quality (0 smooth, 1 crease, 2 corner, "
+                      "3 fixed), class colours to vertex colour");
+  Report r;
+  addClassCounts(r, c);
+  if (p.selectFeatures) {
+    m.svn = sodt::selectFeatureVertices(m, c);
+    log(LogLevel::Info, strFormat("S-ODT classify: selected %d feature (crease or corner) vertices", m.svn));
+    r["selected"] = m.svn;
+  }
+  return r;
+}
+
+}  // namespace sodt_plugin
