@@ -3,6 +3,8 @@
 # Installs every build and test dependency of sodt from Debian 12's archive and
 # fetches the MeshLab 2020.09 plugin SDK (src/common + vcglib) from Debian's
 # `meshlab` source package into .deps/ (git-ignored). Safe to run repeatedly.
+# MeshLab 2025.07 and PyMeshLab 2025.7 are built from these packages by
+# scripts/build-meshlab-2025.sh, as the user who runs the tests (not as root).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -16,8 +18,11 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev dpkg-dev
   # fuzzing and sanitizer builds (clang's libFuzzer runtime)
   clang libclang-rt-14-dev
-  # GUI smoke test: drive MeshLab's window, take a screenshot
+  # GUI smoke tests: drive MeshLab's window, take a screenshot
   xdotool imagemagick
+  # MeshLab 2025.07 and PyMeshLab 2025.7 (scripts/build-meshlab-2025.sh), the
+  # PyMeshLab tests (pytest with Debian's python3)
+  ninja-build libglu1-mesa-dev pybind11-dev python3-dev python3-numpy python3-pytest
 )
 
 if [ "$(id -u)" -eq 0 ]; then

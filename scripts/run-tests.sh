@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Configures and builds everything (Release) in build/, runs the sanitizer
-# build's tests (ASan + UBSan) and a short fuzzing run, then the whole test
-# suite through ctest. Run scripts/install-deps.sh once before.
+# Builds MeshLab 2025.07 and PyMeshLab 2025.7 into their cache folder if they
+# are not there yet (scripts/build-meshlab-2025.sh), configures and builds
+# everything (Release) in build/ (the plugin for MeshLab 2020.09, 2025.07 and
+# PyMeshLab, the CLI, the tests), runs the sanitizer build's tests (ASan +
+# UBSan) and a short fuzzing run, then the whole test suite through ctest.
+# Run scripts/install-deps.sh once before.
 #   SODT_QUICK=1   skip the sanitizer build and the fuzzing run
 #   SODT_FUZZ_SECONDS=N   fuzzing time (default 60)
 set -euo pipefail
@@ -10,7 +13,11 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${SODT_BUILD_DIR:-$ROOT/build}"
 JOBS="${SODT_JOBS:-$(nproc)}"
 
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release
+echo "== MeshLab 2025.07 and PyMeshLab 2025.7 (built once per machine) =="
+"$ROOT/scripts/build-meshlab-2025.sh" all
+ML2025="$("$ROOT/scripts/build-meshlab-2025.sh" --print-dir)"
+echo "== build =="
+cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DSODT_MESHLAB2025_DIR="$ML2025"
 cmake --build "$BUILD" -j"$JOBS"
 if [ "${SODT_QUICK:-0}" != 1 ]; then
   echo "== sanitizer build (ASan + UBSan) =="
