@@ -1,0 +1,285 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""S-ODT through PyMeshLab against PyMeshLab's own smoothers and remeshers.
+
+Every method starts from the same file in one PyMeshLab MeshSet, and every
+output is saved (double-precision PLY) and measured alike: the project's
+metrics (`sodt stats OUT --reference IN`: angles, symmetric sampled Hausdorff
+distance to the input, inverted faces) and PyMeshLab's own measures where
+they fit (get_topological_measures: two-manifoldness, holes;
+get_geometric_measures: enclosed volume).
+
+As a module it gives the runs and measures to tests/pymeshlab; as a command
+it writes the PyMeshLab section of docs/RESULTS.md:
+
+  PYTHONPATH=<folder holding pymeshlab> bench/compare/pymeshlab_compare.py \\
+      --plugin build/meshlab-2025.07-pymeshlab/filter_sodt/libfilter_sodt.so \\
+      --sodt build/cli/sodt --results docs/RESULTS.md [MESH[:ALGORITHM] ...]
+
+(scripts/pymeshlab-results.sh runs it with the published meshes.)
+"""
+
+import argparse
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+
+# Marks the part of RESULTS.md this command owns; sodt_compare keeps it.
+BEGIN_MARK = "<!-- pymeshlab-comparison:begin -->"
+END_MARK = "<!-- pymeshlab-comparison:end -->"
+
+ITERATIONS = 20
+SODT_FILTER = "apply_coord_sodt_smoothing"
+
+
+@dataclass
+class Method:
+    key: str              # short id, used in file names
+    label: str            # table row
+    filter: str           # PyMeshLab filter name
+    params: dict          # keyword arguments (besides the defaults)
+    moves_vertices_only: bool  # same connectivity as the input
+    sodt: bool = False
+    # Parameters that depend on the mesh (e.g. a target length): mesh -> dict.
+    mesh_params: object = None
+
+
+def builtin_methods(iterations=ITERATIONS):
+    """PyMeshLab 2025.7's smoothers (filter_unsharp), planar flipping
+    (filter_trioptimize) and isotropic remeshing (filter_meshing): their
+    defaults, with the step count matched to `iterations` where the filter
+    has one."""
+    return [
+        Method("laplacian", "Laplacian", "apply_coord_laplacian_smoothing",
+               {"stepsmoothnum": iterations}, True),
+        Method("hc_laplacian", "HC Laplacian (one pass, no step count)",
+               "apply_coord_hc_laplacian_smoothing", {}, True),
+        Method("taubin", "Taubin", "apply_coord_taubin_smoothing",
+               {"stepsmoothnum": iterations}, True),
+        Method("two_steps", "TwoStep", "apply_coord_two_steps_smoothing",
+               {"stepsmoothnum": iterations}, True),
+        Method("surface_preserving", "Laplacian, surface preserving",
+               "apply_coord_laplacian_smoothing_surface_preserving",
+               {"iterations": iterations}, True),
+        Method("planar_flip", "Planar edge flips", "meshing_edge_flip_by_planar_optimization",
+               {}, False),
+        Method("isotropic", "Isotropic remeshing (default target)",
+               "meshing_isotropic_explicit_remeshing", {}, False),
+        Method("isotropic_mean_edge", "Isotropic remeshing (target = mean edge)",
+               "meshing_isotropic_explicit_remeshing", {}, False,
+               mesh_params=lambda pm, ms: {
+                   "targetlen": pm.PureValue(ms.get_geometric_measures()["avg_edge_length"])}),
+    ]
+
+
+def sodt_methods(algorithm, iterations=ITERATIONS):
+    """S-ODT through the plugin: the algorithm with its defaults, and with flips."""
+    base = {"algorithm": algorithm, "iterations": iterations}
+    return [
+        Method("sodt", f"**S-ODT {algorithm}** (plugin)", SODT_FILTER, dict(base), True, sodt=True),
+        Method("sodt_flips", f"**S-ODT {algorithm} + flips** (plugin)", SODT_FILTER,
+               dict(base, flips=True), False, sodt=True),
+    ]
+
+
+@dataclass
+class Row:
+    method: Method
+    min_angle: float = float("nan")
+    max_angle: float = float("nan")
+    frac_below_30: float = float("nan")
+    hausdorff_rel: float = float("nan")
+    inverted_faces: object = None      # None when the connectivity changed
+    vertices: int = 0
+    faces: int = 0
+    two_manifold: bool = False
+    holes: int = 0
+    volume_change: object = None       # None for open meshes
+    seconds: float = 0.0
+    report: dict = field(default_factory=dict)  # the filter's returned dict
+    output: str = ""
+    error: str = ""
+
+
+def sodt_stats(sodt_cli, path, reference=None):
+    """`sodt stats PATH [--reference REF]` as a dict (the project's metrics)."""
+    cmd = [sodt_cli, "stats", path]
+    if reference:
+        cmd += ["--reference", reference]
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    return json.loads(out)
+
+
+def run_method(pm, sodt_cli, mesh, method, work):
+    """Runs one method on a fresh copy of `mesh`, saves and measures it."""
+    row = Row(method)
+    ms = pm.MeshSet()
+    ms.load_new_mesh(mesh)
+    closed = ms.get_topological_measures()["boundary_edges"] == 0
+    vol_in = ms.get_geometric_measures().get("mesh_volume") if closed else None
+    params = dict(method.params)
+    if method.mesh_params:
+        params.update(method.mesh_params(pm, ms))
+    name = os.path.splitext(os.path.basename(mesh))[0]
+    row.output = os.path.join(work, f"{name}_{method.key}.ply")
+    start = time.perf_counter()
+    try:
+        row.report = ms.apply_filter(method.filter, **params) or {}
+    except pm.PyMeshLabException as e:
+        row.error = str(e).strip().splitlines()[-1]
+        return row
+    row.seconds = time.perf_counter() - start
+    topo = ms.get_topological_measures()
+    row.two_manifold = bool(topo["is_mesh_two_manifold"])
+    row.holes = int(topo["number_holes"])
+    if vol_in and topo["boundary_edges"] == 0:
+        row.volume_change = ms.get_geometric_measures()["mesh_volume"] / vol_in - 1.0
+    ms.save_current_mesh(row.output, binary=True, save_vertex_quality=False,
+                         save_vertex_color=False, save_face_color=False)
+    st = sodt_stats(sodt_cli, row.output, mesh)
+    row.min_angle = st["min_angle"]
+    row.max_angle = st["max_angle"]
+    row.frac_below_30 = st["frac_below_30"]
+    row.hausdorff_rel = st["hausdorff_rel"]
+    row.vertices = st["vertices"]
+    row.faces = st["faces"]
+    if method.moves_vertices_only and row.report.get("faces_changed", 0) == 0:
+        row.inverted_faces = st["inverted_faces"]
+    return row
+
+
+def compare_mesh(pm, sodt_cli, mesh, algorithm, work, iterations=ITERATIONS):
+    """The input's measures and a row per S-ODT and built-in method for one
+    mesh; `pm` must have the plugin loaded."""
+    inp = sodt_stats(sodt_cli, mesh)
+    rows = [run_method(pm, sodt_cli, mesh, m, work)
+            for m in sodt_methods(algorithm, iterations) + builtin_methods(iterations)]
+    return inp, rows
+
+
+def beaten_by(rows):
+    """The vertex-moving built-ins that S-ODT does not beat: a larger or equal
+    min angle with a Hausdorff distance to the input no larger than S-ODT's."""
+    sodt = next(r for r in rows if r.method.key == "sodt")
+    return [r for r in rows
+            if not r.method.sodt and r.method.moves_vertices_only and not r.error
+            and r.hausdorff_rel <= sodt.hausdorff_rel and r.min_angle >= sodt.min_angle]
+
+
+def _fmt(x, spec, none="–"):
+    if x is None or (isinstance(x, float) and math.isnan(x)):
+        return none
+    return format(x, spec)
+
+
+def markdown_section(results, command):
+    """The RESULTS.md section: set-up and one table per mesh."""
+    out = [BEGIN_MARK, "", "## PyMeshLab 2025.7: S-ODT as a plugin against PyMeshLab's filters", "",
+           "<!-- Generated by bench/compare/pymeshlab_compare.py. Do not edit: rerun the command below. -->",
+           "", "Generated by one command from the repository root, after `scripts/run-tests.sh` "
+           "(or `scripts/demo.sh`) has built PyMeshLab 2025.7 and the plugin:", "", "```sh", command, "```", "",
+           "* **Same input, same session.** Each method runs on a fresh copy of the mesh, loaded by "
+           "PyMeshLab 2025.7 (double precision) with the S-ODT plugin loaded by `pymeshlab.load_plugin`. "
+           f"S-ODT runs `{SODT_FILTER}` with its defaults (guard quality, Laplacian fallback, deviation "
+           f"bound 0.1 % of the diagonal, all cores) and `iterations` = {ITERATIONS}; \"+ flips\" adds "
+           "`flips=True`. PyMeshLab's filters run with their defaults, the step count set to "
+           f"{ITERATIONS} where they have one (`stepsmoothnum`, `iterations` of the surface-preserving "
+           "Laplacian); isotropic remeshing also runs with its target edge length set to the input's "
+           "mean edge length.",
+           "* **Measures.** Every output is saved as a double-precision PLY and measured by "
+           "`sodt stats OUT --reference IN` (the project's metrics): corner angles, the share below "
+           "30°, the symmetric sampled Hausdorff distance to the input relative to its bounding-box "
+           "diagonal, and faces turned by more than 90° against the same face of the input (only when "
+           "the connectivity is unchanged, \"–\" otherwise). PyMeshLab's own measures: "
+           "`get_topological_measures` (two-manifold, holes) and `get_geometric_measures` (enclosed "
+           "volume, for the change of closed meshes). Time: the `apply_filter` call alone, one run "
+           f"({platform.processor() or platform.machine()}, {os.cpu_count()} hardware threads).",
+           "* **Rule the tests check** (`tests/pymeshlab/test_comparison.py`): S-ODT inverts no face, and "
+           "its min angle is larger than that of every vertex-moving built-in whose Hausdorff distance "
+           "to the input is no larger. Flips and remeshing change the connectivity and are listed for "
+           "reference.", ""]
+    for mesh, algorithm, inp, rows in results:
+        name = os.path.basename(mesh)
+        out += [f"### `{name}` ({inp['vertices']} vertices, {inp['faces']} faces; S-ODT `{algorithm}`)", "",
+                "| method | min angle | max angle | < 30° | Hausdorff to input | volume change | "
+                "inverted | V / F | 2-manifold, holes | time |",
+                "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+                f"| input | {inp['min_angle']:.2f}° | {inp['max_angle']:.2f}° | "
+                f"{100 * inp['frac_below_30']:.2f}% | | | | {inp['vertices']} / {inp['faces']} | | |"]
+        for r in rows:
+            if r.error:
+                out.append(f"| {r.method.label} | failed: {r.error} | | | | | | | | |")
+                continue
+            out.append(
+                f"| {r.method.label} | {r.min_angle:.2f}° | {r.max_angle:.2f}° | "
+                f"{100 * r.frac_below_30:.2f}% | {100 * r.hausdorff_rel:.3f}% | "
+                f"{_fmt(r.volume_change, '+.1e')} | {_fmt(r.inverted_faces, 'd')} | "
+                f"{r.vertices} / {r.faces} | {'yes' if r.two_manifold else 'no'}, {r.holes} | "
+                f"{r.seconds:.2f} s |")
+        lost = beaten_by(rows)
+        verdict = ("S-ODT's min angle is the largest among the vertex-moving methods that stay as close "
+                   "to the input" if not lost else
+                   "not beaten by S-ODT at no larger Hausdorff distance: " +
+                   ", ".join(r.method.label for r in lost))
+        out += ["", verdict + ".", ""]
+    out.append(END_MARK)
+    return "\n".join(out) + "\n"
+
+
+def replace_section(results_md, section):
+    """RESULTS.md with its PyMeshLab section replaced (appended when absent)."""
+    text = open(results_md, encoding="utf-8").read() if os.path.exists(results_md) else ""
+    b, e = text.find(BEGIN_MARK), text.find(END_MARK)
+    if b >= 0 and e > b:
+        text = text[:b] + section + text[e + len(END_MARK):].lstrip("\n")
+    else:
+        text = text.rstrip("\n") + ("\n\n" if text else "") + section
+    tmp = results_md + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(text)
+    os.replace(tmp, results_md)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--plugin", required=True, help="libfilter_sodt.so built for PyMeshLab (double)")
+    ap.add_argument("--sodt", required=True, help="the sodt command (measures the outputs)")
+    ap.add_argument("--results", help="RESULTS.md whose PyMeshLab section is rewritten "
+                    "(default: print the section)")
+    ap.add_argument("--work", help="folder for the output meshes (default: a temporary one)")
+    ap.add_argument("--command", help="command line quoted in the section (default: this one)")
+    ap.add_argument("meshes", nargs="+", help="MESH or MESH:ALGORITHM (basic, feature, denoise)")
+    a = ap.parse_args(argv)
+    import pymeshlab as pm  # after argparse, so that --help works without it
+    if SODT_FILTER in pm.filter_list():
+        ap.error(f"the pymeshlab at {os.path.dirname(pm.__file__)} already has an S-ODT plugin in its "
+                 "lib/plugins folder; use a pymeshlab without it, so that --plugin is the one measured")
+    pm.load_plugin(a.plugin)
+    work = a.work or tempfile.mkdtemp(prefix="sodt-pymeshlab-")
+    os.makedirs(work, exist_ok=True)
+    results = []
+    for spec in a.meshes:
+        mesh, _, algorithm = spec.partition(":")
+        algorithm = algorithm or "basic"
+        print(f"[pymeshlab_compare] {mesh} ({algorithm})", file=sys.stderr)
+        inp, rows = compare_mesh(pm, a.sodt, mesh, algorithm, work)
+        results.append((mesh, algorithm, inp, rows))
+    command = a.command or " ".join(["bench/compare/pymeshlab_compare.py"] + (argv or sys.argv[1:]))
+    section = markdown_section(results, command)
+    if a.results:
+        replace_section(a.results, section)
+        print(f"[pymeshlab_compare] wrote the PyMeshLab section of {a.results}; meshes in {work}",
+              file=sys.stderr)
+    else:
+        sys.stdout.write(section)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
