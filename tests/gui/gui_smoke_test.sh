@@ -43,7 +43,6 @@
 set -u
 
 FILTER="S-ODT Smoothing"
-SKIP=77
 SCREEN_W=1920
 SCREEN_H=1080
 
@@ -60,49 +59,8 @@ while [ $# -gt 0 ]; do
 done
 
 START=$SECONDS
-WORK="" XVFB_PID="" ML_PID="" DISPLAY_NUM=""
-log() { echo "[$((SECONDS - START))s] $*"; }
-# Every xdotool call is bounded, in case the X server hangs.
-xdo() { timeout 10 xdotool "$@"; }
-
-# Kill a process we started: TERM, up to 3 s grace, then KILL.
-stop_pid() {
-  local pid="$1"
-  [ -n "$pid" ] || return 0
-  kill -0 "$pid" 2>/dev/null || return 0
-  kill -TERM "$pid" 2>/dev/null
-  for _ in $(seq 30); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-  kill -KILL "$pid" 2>/dev/null
-  wait "$pid" 2>/dev/null
-}
-cleanup() {
-  stop_pid "$ML_PID"
-  stop_pid "$XVFB_PID"
-  if [ -n "$WORK" ]; then
-    if [ -n "${SODT_TEST_KEEP:-}" ]; then echo "work directory kept: $WORK"; else rm -rf "$WORK"; fi
-  fi
-}
-trap cleanup EXIT
-trap 'echo "interrupted"; exit 1' INT TERM HUP
-
-# shot NAME: screenshot of the whole screen into WORK (and the screenshot dir).
-shot() {
-  [ -n "$DISPLAY_NUM" ] && command -v import >/dev/null || return 0
-  timeout 10 import -display ":$DISPLAY_NUM" -window root "$WORK/$1" 2>/dev/null || return 0
-  if [ -n "${SODT_GUI_SCREENSHOT_DIR:-}" ]; then
-    mkdir -p "$SODT_GUI_SCREENSHOT_DIR" && cp "$WORK/$1" "$SODT_GUI_SCREENSHOT_DIR/"
-  fi
-}
-fail() {
-  echo "FAIL: $*"
-  if [ -n "$WORK" ] && [ -f "$WORK/meshlab.log" ]; then
-    shot gui-failure.png
-    echo "--- last lines of the MeshLab log ---"
-    tail -n 25 "$WORK/meshlab.log"
-  fi
-  exit 1
-}
-skip() { echo "SKIP: $*"; exit "$SKIP"; }
+# shellcheck source=gui_common.sh
+. "$(dirname "${BASH_SOURCE[0]}")/gui_common.sh"
 
 # ---------------------------------------------------------------------------
 # Preconditions
@@ -140,46 +98,7 @@ OUT="$WORK/gui_out.ply"
 
 # ---------------------------------------------------------------------------
 # 2. Xvfb on a free display.
-# x_alive: the server on DISPLAY_NUM answers.
-x_alive() { DISPLAY=":$DISPLAY_NUM" timeout 5 xdotool getdisplaygeometry >/dev/null 2>&1; }
-
-start_xvfb_displayfd() {
-  : >"$WORK/display"
-  Xvfb -displayfd 3 -screen 0 "${SCREEN_W}x${SCREEN_H}x24" -nolisten tcp -noreset \
-    3>"$WORK/display" >"$WORK/xvfb.log" 2>&1 &
-  XVFB_PID=$!
-  for _ in $(seq 100); do  # up to 10 s
-    if [ -s "$WORK/display" ]; then
-      DISPLAY_NUM="$(tr -dc '0-9' <"$WORK/display")"
-      [ -n "$DISPLAY_NUM" ] && x_alive && return 0
-    fi
-    kill -0 "$XVFB_PID" 2>/dev/null || break
-    sleep 0.1
-  done
-  stop_pid "$XVFB_PID"; XVFB_PID="" DISPLAY_NUM=""
-  return 1
-}
-start_xvfb_fixed() {
-  local n
-  for n in 91 92 93 94 95 96 97 98 99; do
-    [ -e "/tmp/.X$n-lock" ] || [ -e "/tmp/.X11-unix/X$n" ] && continue
-    Xvfb ":$n" -screen 0 "${SCREEN_W}x${SCREEN_H}x24" -nolisten tcp -noreset >"$WORK/xvfb.log" 2>&1 &
-    XVFB_PID=$!
-    DISPLAY_NUM=$n
-    for _ in $(seq 50); do  # up to 5 s
-      kill -0 "$XVFB_PID" 2>/dev/null || break
-      x_alive && return 0
-      sleep 0.1
-    done
-    stop_pid "$XVFB_PID"; XVFB_PID="" DISPLAY_NUM=""
-  done
-  return 1
-}
-start_xvfb_displayfd || start_xvfb_fixed \
-  || skip "no X server could be started (Xvfb -displayfd and :91..:99 failed; see below)
-$(tail -n 5 "$WORK/xvfb.log" 2>/dev/null)"
-export DISPLAY=":$DISPLAY_NUM"
-log "Xvfb is running on $DISPLAY (${SCREEN_W}x${SCREEN_H})"
+start_xvfb
 
 # ---------------------------------------------------------------------------
 # 3. MeshLab with the mesh; settings and runtime files stay in WORK.
@@ -187,41 +106,6 @@ ML_LOG="$WORK/meshlab.log"
 HOME="$WORK/home" XDG_CONFIG_HOME="$WORK/home/.config" XDG_RUNTIME_DIR="$WORK/runtime" \
   "$P/bin/meshlab" "$INPUT" >"$ML_LOG" 2>&1 &
 ML_PID=$!
-
-alive() { kill -0 "$ML_PID" 2>/dev/null; }
-need_alive() {
-  alive && return 0
-  wait "$ML_PID" 2>/dev/null
-  local rc=$?
-  ML_PID=""
-  if [ "$rc" -gt 128 ]; then fail "MeshLab died from signal $((rc - 128)) $1"; fi
-  fail "MeshLab exited with status $rc $1"
-}
-# wait_log PATTERN SECONDS: waits until the MeshLab log has a line matching
-# the extended regex PATTERN; fails if MeshLab dies first.
-wait_log() {
-  local i
-  for i in $(seq $(($2 * 10))); do
-    grep -qE "$1" "$ML_LOG" && return 0
-    need_alive "while waiting for the log line /$1/"
-    sleep 0.1
-  done
-  return 1
-}
-# wait_window REGEX SECONDS: prints the id of the first visible window whose
-# title matches REGEX, waiting up to SECONDS.
-wait_window() {
-  timeout "$2" xdotool search --sync --onlyvisible --name "$1" 2>/dev/null | head -n 1
-}
-# focus WID: pointer into the window and keyboard focus on it (there is no
-# window manager, so nothing else gives a window the focus).
-focus() {
-  local X Y WIDTH HEIGHT SCREEN WINDOW
-  eval "$(xdo getwindowgeometry --shell "$1")"
-  xdo mousemove $((X + WIDTH / 2)) $((Y + 12 > 0 ? Y + 12 : 5))
-  timeout 3 xdotool windowfocus --sync "$1" 2>/dev/null || xdo windowfocus "$1"
-  sleep 0.3
-}
 
 MAIN="$(wait_window '^MeshLab [0-9.]+ - ' 30)"
 [ -n "$MAIN" ] || { need_alive "before its main window appeared"; fail "no MeshLab main window within 30 s"; }
@@ -235,46 +119,26 @@ sleep 0.5
 # ---------------------------------------------------------------------------
 # 4.-5. Open the filter through the filter search (Ctrl+F). Up to 3 attempts:
 #    a key press can be lost while the window is still settling.
-DIALOG=""
-for attempt in 1 2 3; do
-  focus "$MAIN"
+by_filter_search() {
   xdo key --clearmodifiers ctrl+f
   sleep 0.5
   xdo type --delay 30 "$FILTER"
   sleep 0.7
-  [ "$attempt" -eq 1 ] && shot gui-search.png
   xdo key Down
   sleep 0.3
-  xdo key Return
-  DIALOG="$(wait_window "^${FILTER}\$" 8)"
-  [ -n "$DIALOG" ] && break
-  need_alive "after selecting the filter"
-  log "attempt $attempt: no '$FILTER' dialog yet; retrying"
-  xdo key Escape
-  sleep 0.5
-done
-[ -n "$DIALOG" ] || fail "the '$FILTER' parameter dialog did not appear (searched via Ctrl+F)"
-xdo search --onlyvisible --name '^S-ODT: Classify' >/dev/null 2>&1 && fail "the classify filter's dialog opened instead"
-log "the '$FILTER' dialog (window $DIALOG) is open"
+}
+open_dialog "$MAIN" "$FILTER" by_filter_search gui-search.png
 
 # ---------------------------------------------------------------------------
 # 6. Apply. The dialog is a floating QDockWidget, taller than the screen (its
 #    help text): put its bottom on the screen's bottom edge and the main window
 #    to its right, then click Apply, the bottom-right button of its grid.
 eval "$(xdo getwindowgeometry --shell "$DIALOG")"
-DW=$WIDTH DH=$HEIGHT
-DY=0
-[ "$DH" -gt "$SCREEN_H" ] && DY=$((SCREEN_H - DH))
-xdo windowmove "$DIALOG" 0 "$DY"
-if [ "$DW" -lt $((SCREEN_W - 600)) ]; then
-  xdo windowmove "$MAIN" "$DW" 0
-  xdo windowsize "$MAIN" $((SCREEN_W - DW)) $((SCREEN_H - 30))
+if [ "$WIDTH" -lt $((SCREEN_W - 600)) ]; then
+  xdo windowmove "$MAIN" "$WIDTH" 0
+  xdo windowsize "$MAIN" $((SCREEN_W - WIDTH)) $((SCREEN_H - 30))
 fi
-sleep 0.7
-eval "$(xdo getwindowgeometry --shell "$DIALOG")"
-xdo mousemove $((X + WIDTH * 3 / 4)) $((Y + HEIGHT - 23))
-sleep 0.2
-xdo click 1
+click_apply "$DIALOG"
 wait_log "^LOG: 0 Applied filter ${FILTER} in" 60 || fail "no 'Applied filter $FILTER' in the log within 60 s of clicking Apply"
 LINE="$(grep -E '^LOG: 2 S-ODT: min angle ' "$ML_LOG" | tail -n 1)"
 [ -n "$LINE" ] || fail "the filter's log line 'S-ODT: min angle ...' is missing"
@@ -289,46 +153,11 @@ need_alive "after applying the filter"
 
 # ---------------------------------------------------------------------------
 # 7. File > Export Mesh As (Ctrl+Shift+E) to OUT.
-focus "$MAIN"
-xdo key --clearmodifiers ctrl+shift+e
-SAVE="$(wait_window '^Save ".*" Layer$' 10)"
-[ -n "$SAVE" ] || fail "the Export Mesh As file dialog did not appear"
-focus "$SAVE"
-xdo key --clearmodifiers ctrl+a
-xdo type --delay 15 "$OUT"
-sleep 0.3
-xdo key Return
-MASK="$(wait_window '^Choose Saving Options' 10)"
-[ -n "$MASK" ] || fail "the 'Choose Saving Options' dialog did not appear after the file dialog"
-focus "$MASK"
-xdo key Return
-wait_log "^LOG: 0 Saved Mesh ${OUT} in" 20 || fail "no 'Saved Mesh $OUT' in the log within 20 s"
-[ -s "$OUT" ] || fail "MeshLab reports saving '$OUT' but the file is missing or empty"
-log "mesh exported to $(basename "$OUT")"
-sleep 0.5
-need_alive "after exporting the mesh"
+export_mesh "$MAIN" "$OUT"
 
 # ---------------------------------------------------------------------------
 # 8. The exported mesh is the filter's result.
-cmp -s "$MESH" "$OUT" && fail "the exported mesh is identical to the input"
-"$SODT" stats "$INPUT" --json "$WORK/in.json" || fail "sodt stats failed on the input"
-"$SODT" stats "$OUT" --reference "$INPUT" --json "$WORK/out.json" || fail "sodt stats failed on the exported mesh"
-# json_val FILE KEY: the scalar value of "KEY": in the JSON FILE (one key per line).
-json_val() { sed -nE "s/^ *\"$2\": *([^,]*),?\$/\\1/p" "$1" | head -n 1; }
-for k in vertices faces; do
-  a="$(json_val "$WORK/in.json" $k)" b="$(json_val "$WORK/out.json" $k)"
-  [ -n "$a" ] && [ "$a" = "$b" ] || fail "$k changed: input $a, exported $b"
-done
-[ "$(json_val "$WORK/out.json" closed)" = true ] || fail "the exported mesh is not closed"
-[ "$(json_val "$WORK/out.json" inverted_faces)" = 0 ] || fail "the exported mesh has inverted faces: $(json_val "$WORK/out.json" inverted_faces)"
-MIN_IN="$(json_val "$WORK/in.json" min_angle)"
-MIN_OUT="$(json_val "$WORK/out.json" min_angle)"
-echo "  sodt stats: min angle $MIN_IN (input) -> $MIN_OUT (exported); filter log: $LOG_BEFORE -> $LOG_AFTER"
-awk -v a="$MIN_IN" -v b="$MIN_OUT" 'BEGIN { exit !(b > a) }' || fail "the smallest angle did not grow ($MIN_IN -> $MIN_OUT)"
-awk -v a="$MIN_OUT" -v b="$LOG_AFTER" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d < 0.01) }' \
-  || fail "the exported mesh's smallest angle $MIN_OUT differs from the filter's log ($LOG_AFTER)"
-awk -v a="$MIN_IN" -v b="$LOG_BEFORE" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d < 0.01) }' \
-  || fail "the input's smallest angle $MIN_IN differs from the filter's log ($LOG_BEFORE)"
+check_exported "$INPUT" "$OUT" "$SODT" "$LOG_BEFORE" "$LOG_AFTER"
 need_alive "at the end"
 log "all checks passed"
 [ -n "${SODT_GUI_SCREENSHOT_DIR:-}" ] && [ -f "$WORK/gui-smoke.png" ] \
