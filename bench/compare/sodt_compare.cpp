@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -62,6 +64,21 @@ std::string quoteArg(const std::string& a) {
 }
 
 }  // namespace
+
+/// The PyMeshLab section of an existing RESULTS.md (written by
+/// pymeshlab_compare.py between its markers), to be kept when this tool
+/// rewrites the file; empty when there is none.
+static std::string pymeshlabSection(const std::string& resultsPath) {
+  std::ifstream in(resultsPath);
+  if (!in) return std::string();
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  const std::string begin = "<!-- pymeshlab-comparison:begin -->", end = "<!-- pymeshlab-comparison:end -->";
+  const std::size_t b = s.find(begin), e = s.find(end);
+  if (b == std::string::npos || e == std::string::npos || e < b) return std::string();
+  return "\n" + s.substr(b, e + end.size() - b) + "\n";
+}
 
 int main(int argc, char** argv) {
   using namespace sodtcmp;
@@ -215,7 +232,8 @@ int main(int argc, char** argv) {
   }
   try {
     writeFile(figDir + "/" + odtSummaryFile(), odtSummarySvg(reports, opt.iterations));
-    writeFile(outDir + "/RESULTS.md", markdownReport(reports, opt, shown, mlLine, "figures"));
+    writeFile(outDir + "/RESULTS.md", markdownReport(reports, opt, shown, mlLine, "figures") +
+                                          pymeshlabSection(outDir + "/RESULTS.md"));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sodt_compare: %s\n", e.what());
     return 1;

@@ -18,6 +18,7 @@
 #include "process.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -284,6 +285,12 @@ TEST(Cli, WritesReportAndFigures) {
   double secs = 0;
   const bool plugin = SODT_HAVE_PLUGIN;
   const std::string methods = std::string("sodt_basic,sodt_feature,odt,ml_taubin") + (plugin ? ",plugin_basic" : "");
+  // A RESULTS.md from an earlier run, with the section pymeshlab_compare.py
+  // writes: the rewrite keeps that section and drops the rest.
+  const std::string pymeshlabPart =
+      "<!-- pymeshlab-comparison:begin -->\n## PyMeshLab marker test\n<!-- pymeshlab-comparison:end -->";
+  ASSERT_EQ(::mkdir(out.c_str(), 0755), 0) << out;
+  writeFile(out + "/RESULTS.md", "stale text from an earlier run\n\n" + pymeshlabPart + "\n");
   const int rc = proc::run({exe, std::string(SODT_MESH_DIR) + "/cube_jitter.ply", "--variant", "feature",
                             "--iterations", "4", "--methods", methods, "--out", out, "--quiet"},
                            {}, log, 120, &secs);
@@ -295,6 +302,9 @@ TEST(Cli, WritesReportAndFigures) {
   ASSERT_EQ(rc, 0) << text;
   const std::string md = readFile(out + "/RESULTS.md");
   EXPECT_NE(md.find("### cube_jitter"), std::string::npos);
+  EXPECT_EQ(md.find("stale text from an earlier run"), std::string::npos) << md;
+  EXPECT_NE(md.find(pymeshlabPart), std::string::npos) << md;
+  EXPECT_GT(md.find(pymeshlabPart), md.find("### cube_jitter")) << md;
   EXPECT_NE(md.find("| **S-ODT feature (Alg. 2)** | 866 | 1728 |"), std::string::npos) << md;
   if (plugin) {
     EXPECT_NE(md.find("| S-ODT basic, plugin in meshlabserver | 866 | 1728 |"), std::string::npos) << md;
