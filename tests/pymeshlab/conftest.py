@@ -13,14 +13,13 @@ The tests import a mirror of that pymeshlab made of symlinks, without any
 libfilter_sodt.so installed in its plugin folder (scripts/demo.sh installs one
 there), so that they always load the plugin of this build.
 """
-import atexit
 import os
-import shutil
 import sys
-import tempfile
 
 import numpy as np
 import pytest
+
+from pymeshlab_compare import pristine_pymeshlab
 
 
 def _env_path(name):
@@ -31,25 +30,7 @@ def _env_path(name):
     return value
 
 
-def _pristine_pymeshlab(parent):
-    """A temporary folder whose pymeshlab/ mirrors parent/pymeshlab with
-    symlinks, leaving out an installed libfilter_sodt.so."""
-    src = os.path.join(parent, "pymeshlab")
-    if not os.path.isfile(os.path.join(src, "__init__.py")):
-        raise RuntimeError(f"no pymeshlab package in SODT_PYMESHLAB_DIR='{parent}'")
-    top = tempfile.mkdtemp(prefix="sodt-pymeshlab-")
-    atexit.register(shutil.rmtree, top, True)
-    for root, _dirs, files in os.walk(src):
-        rel = os.path.relpath(root, src)
-        os.makedirs(os.path.join(top, "pymeshlab", rel), exist_ok=True)
-        for f in files:
-            if f == "libfilter_sodt.so" and os.path.basename(root) == "plugins":
-                continue
-            os.symlink(os.path.join(root, f), os.path.join(top, "pymeshlab", rel, f))
-    return top
-
-
-PYMESHLAB_PATH = _pristine_pymeshlab(_env_path("SODT_PYMESHLAB_DIR"))
+PYMESHLAB_PATH = pristine_pymeshlab(_env_path("SODT_PYMESHLAB_DIR"))
 sys.path.insert(0, PYMESHLAB_PATH)
 PLUGIN = _env_path("SODT_PYMESHLAB_PLUGIN")
 SODT_CLI = _env_path("SODT_CLI")
