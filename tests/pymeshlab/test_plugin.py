@@ -230,3 +230,24 @@ def test_installed_in_pymeshlabs_plugin_folder_it_is_a_meshset_method(tmp_path):
     result = json.loads(out.stdout.strip().splitlines()[-1])
     assert result["file"].startswith(str(tmp_path))
     assert result["min"] > 10.0
+
+
+def test_the_example_script_smooths_and_saves_the_classes(pm, tmp_path):
+    """filter_sodt/examples/sodt_pymeshlab.py, as the README runs it."""
+    example = os.path.join(os.path.dirname(__file__), "..", "..", "filter_sodt", "examples", "sodt_pymeshlab.py")
+    out = tmp_path / "cube_feature.ply"
+    env = dict(os.environ, PYTHONPATH=PYMESHLAB_PATH)
+    run = subprocess.run([sys.executable, example, bundled("cube_jitter.ply"), str(out), "--plugin", PLUGIN,
+                          "--algorithm", "feature", "--iterations", "10"],
+                         env=env, capture_output=True, text=True, check=True)
+    assert "min angle 5.82 -> " in run.stdout
+    assert "vertex classes: " in run.stdout and " 8 corner" in run.stdout
+    ms = pm.MeshSet()
+    ms.load_new_mesh(str(out))
+    q = ms.current_mesh().vertex_scalar_array()
+    assert np.count_nonzero(q == 2) == 8 and np.count_nonzero(q == 1) > 0
+    # Without --plugin, and with none installed, it says what to do.
+    bad = subprocess.run([sys.executable, example, bundled("cube_jitter.ply"), str(tmp_path / "x.ply")],
+                         env=env, capture_output=True, text=True)
+    assert bad.returncode != 0 and "pass --plugin" in bad.stderr
+    assert not (tmp_path / "x.ply").exists()
