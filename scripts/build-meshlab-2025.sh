@@ -111,7 +111,6 @@ get_sources() {
       die "could not fetch the vcglib submodule of $ML_TAG"
     git clone --quiet --depth 1 --branch "$PYML_TAG" "$PYML_GIT" "$src/PyMeshLab" ||
       die "could not clone $PYML_GIT (tag $PYML_TAG)"
-    mv "$src/vcglib" "$src/meshlab/src/vcglib" 2>/dev/null || true
   fi
   [ -f "$src/meshlab/src/common/plugins/interfaces/filter_plugin.h" ] || die "$src/meshlab is not a MeshLab 2021.05+ tree"
   [ -f "$src/meshlab/src/vcglib/vcg/complex/complex.h" ] || die "$src/meshlab/src/vcglib holds no vcglib"
