@@ -194,6 +194,18 @@ def beaten_by(rows):
             and r.hausdorff_rel <= sodt.hausdorff_rel and r.min_angle >= sodt.min_angle]
 
 
+def processor_name():
+    """The processor's model name (timings from other processors are not comparable)."""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
 def _fmt(x, spec, none="–"):
     if x is None or (isinstance(x, float) and math.isnan(x)):
         return none
@@ -223,7 +235,7 @@ def markdown_section(results, command):
            "the connectivity is unchanged, \"–\" otherwise). PyMeshLab's own measures: "
            "`get_topological_measures` (two-manifold, holes) and `get_geometric_measures` (enclosed "
            "volume, for the change of closed meshes). Time: the `apply_filter` call alone, one run "
-           f"({platform.processor() or platform.machine()}, {os.cpu_count()} hardware threads).",
+           f"({processor_name()}, {os.cpu_count()} hardware threads).",
            "* **Rule the tests check** (`tests/pymeshlab/test_comparison.py`): S-ODT inverts no face, and "
            "its min angle is larger than that of every vertex-moving built-in whose Hausdorff distance "
            "to the input is no larger. Flips and remeshing change the connectivity and are listed for "
