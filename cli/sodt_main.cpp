@@ -1160,9 +1160,10 @@ int run(const std::vector<std::string>& args) {
 /// Entry point: every error ends as one "sodt: error: ..." line on stderr and
 /// a non-zero exit status (see printMainHelp()).
 int main(int argc, char** argv) {
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
-  std::signal(SIGHUP, onSignal);
+  // A signal the caller ignores stays ignored (nohup, `cmd &` in a
+  // non-interactive shell): only the others clean up and end the run.
+  for (int sig : {SIGINT, SIGTERM, SIGHUP})
+    if (std::signal(sig, onSignal) == SIG_IGN) std::signal(sig, SIG_IGN);
   gStatus.enabled = ::isatty(STDERR_FILENO) == 1;
   const std::vector<std::string> args(argv + 1, argv + argc);
   try {

@@ -10,10 +10,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <dirent.h>
+#include <fcntl.h>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -1232,6 +1234,68 @@ TEST_F(CliTest, ToleranceStopsEarly) {
   EXPECT_GE(jsonNumber(json, "min_angle_after"), jsonNumber(json, "min_angle_before"));
   EXPECT_NE(r.out.find("stopped early"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("for " + std::to_string(int(sweeps)) + " sweeps"), std::string::npos) << r.out;
+}
+
+
+
+// ---------------------------------------------------------------------------
+// Signals
+
+/// Starts `sodt ARGS` as a child with stdin, stdout and stderr on /dev/null;
+/// with ignoreSigint, SIGINT is ignored in the child before exec, as nohup
+/// and a non-interactive shell's `cmd &` leave it.
+pid_t spawnSodt(const std::vector<std::string>& args, bool ignoreSigint) {
+  std::vector<std::string> argv{SODT_BIN};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (ignoreSigint) std::signal(SIGINT, SIG_IGN);
+    const int devnull = ::open("/dev/null", O_RDWR);
+    for (int fd = 0; fd < 3; ++fd) ::dup2(devnull, fd);
+    std::vector<char*> cargv;
+    for (std::string& a : argv) cargv.push_back(&a[0]);
+    cargv.push_back(nullptr);
+    ::execv(SODT_BIN, cargv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+/// A run long enough to be signalled in the middle: many sweeps, each
+/// measured for keep-best.
+std::vector<std::string> longRun(const TempDir& dir) {
+  return {"smooth", std::string(SODT_MESH_DIR) + "/sphere_jitter.ply", dir / "out.ply", "--iterations", "100000",
+          "--keep-best", "--report", dir / "report.json", "--quiet"};
+}
+
+TEST(CliSignals, SigintEndsTheRunAndLeavesNothingBehind) {
+  TempDir dir;
+  const pid_t pid = spawnSodt(longRun(dir), false);
+  ASSERT_GT(pid, 0);
+  ::usleep(500 * 1000);
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "status " << status << ": the run ended before the signal";
+  EXPECT_EQ(WTERMSIG(status), SIGINT);
+  EXPECT_TRUE(dir.entries().empty()) << dir.entries().front();
+}
+
+TEST(CliSignals, AnIgnoredSigintStaysIgnored) {
+  TempDir dir;
+  const pid_t pid = spawnSodt(longRun(dir), true);
+  ASSERT_GT(pid, 0);
+  ::usleep(500 * 1000);
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  ::usleep(500 * 1000);
+  // Still running after SIGINT: only SIGTERM ends it, still cleaning up.
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, WNOHANG), 0) << "sodt ended on an ignored SIGINT (status " << status << ")";
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "status " << status;
+  EXPECT_EQ(WTERMSIG(status), SIGTERM);
+  EXPECT_TRUE(dir.entries().empty()) << dir.entries().front();
 }
 
 }  // namespace
