@@ -66,6 +66,7 @@ volatile std::sig_atomic_t gTempActive[kMaxTemps];
 
 /// Lets the signal handler remove f's temporary file (until the process ends).
 void trackTemporary(const sodt::PendingFile& f) {
+  if (f.direct()) return;  // a device or FIFO written in place: never removed
   const std::string& p = f.tempPath();
   if (p.size() >= kTempPathMax) return;
   for (int i = 0; i < kMaxTemps; ++i)

@@ -23,6 +23,7 @@
 #include <sstream>
 #include <string>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
@@ -1296,6 +1297,128 @@ TEST(CliSignals, AnIgnoredSigintStaysIgnored) {
   ASSERT_TRUE(WIFSIGNALED(status)) << "status " << status;
   EXPECT_EQ(WTERMSIG(status), SIGTERM);
   EXPECT_TRUE(dir.entries().empty()) << dir.entries().front();
+}
+
+// ---------------------------------------------------------------------------
+// What OUT and --report may name
+
+bool isCharDevice(const std::string& p) {
+  struct stat st;
+  return ::stat(p.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
+}
+
+TEST(CliOutput, ACharacterDeviceIsWrittenNotReplaced) {
+  TempDir dir;
+  // As root, a private node of the null device; otherwise /dev/null itself,
+  // which an unprivileged run could not replace anyway.
+  std::string dev = "/dev/null";
+  if (::geteuid() == 0) {
+    dev = dir / "null";
+    ASSERT_EQ(::mknod(dev.c_str(), S_IFCHR | 0666, ::makedev(1, 3)), 0);
+  }
+  const std::string cube = std::string(SODT_MESH_DIR) + "/cube_jitter.ply";
+  const RunResult r = runSodt({"smooth", cube, dir / "out.ply", "--iterations", "2", "--report", dev, "--quiet"}, dir);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(isCharDevice(dev)) << dev << " is no longer a character device";
+  EXPECT_TRUE(exists(dir / "out.ply"));
+}
+
+TEST(CliOutput, AFifoReceivesTheMeshAndStaysAFifo) {
+  TempDir dir;
+  const std::string fifo = dir / "pipe.ply";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // Held open read-write, the FIFO never blocks sodt's open; the mesh (43 kB)
+  // fits in the pipe's buffer (64 kB), so no reader has to run meanwhile.
+  const int fd = ::open(fifo.c_str(), O_RDWR | O_NONBLOCK);
+  ASSERT_GE(fd, 0);
+  const std::string cube = std::string(SODT_MESH_DIR) + "/cube_jitter.ply";
+  const RunResult r = runSodt({"smooth", cube, fifo, "--iterations", "2", "--quiet"}, dir);
+  std::string received;
+  char buf[4096];
+  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) received.append(buf, static_cast<std::size_t>(n));
+  ::close(fd);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  struct stat st;
+  ASSERT_EQ(::stat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  ASSERT_FALSE(received.empty()) << "nothing came through the FIFO";
+  writeFile(dir / "received.ply", received);
+  sodt::MeshD m;
+  sodt::loadMesh(dir / "received.ply", m);
+  EXPECT_EQ(m.vn, 866);
+  EXPECT_EQ(m.fn, 1728);
+}
+
+TEST(CliOutput, ReportToStdoutWhenItIsAPipe) {
+  const std::string cube = std::string(SODT_MESH_DIR) + "/cube_jitter.ply";
+  TempDir dir;
+  const std::string cmd = shellQuote(SODT_BIN) + " smooth " + shellQuote(cube) + " " + shellQuote(dir / "out.ply") +
+                          " --iterations 2 --quiet --report /dev/stdout 2>/dev/null";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string json;
+  char buf[4096];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) json.append(buf, n);
+  const int status = ::pclose(p);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  EXPECT_EQ(jsonNumber(json, "vertices"), 866) << json;
+  EXPECT_FALSE(std::isnan(jsonNumber(json, "min_angle_after"))) << json;
+}
+
+TEST(CliOutput, ABlockDeviceIsRefused) {
+  if (::geteuid() != 0) GTEST_SKIP() << "creating a block device node needs root";
+  TempDir dir;
+  // Major 240 is for local use: no driver answers, nothing could be written.
+  const std::string dev = dir / "disk.ply";
+  ASSERT_EQ(::mknod(dev.c_str(), S_IFBLK | 0600, ::makedev(240, 250)), 0);
+  const std::string cube = std::string(SODT_MESH_DIR) + "/cube_jitter.ply";
+  const RunResult r = runSodt({"smooth", cube, dev, "--iterations", "2", "--quiet"}, dir);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("is a block device"), std::string::npos) << r.err;
+  struct stat st;
+  ASSERT_EQ(::stat(dev.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISBLK(st.st_mode));
+}
+
+TEST(CliOutput, ANameAsLongAsTheFileSystemAllows) {
+  TempDir dir;
+  const std::string name = std::string(251, 'a') + ".ply";  // 255 bytes, NAME_MAX here
+  ASSERT_EQ(name.size(), 255u);
+  const std::string cube = std::string(SODT_MESH_DIR) + "/cube_jitter.ply";
+  const RunResult r = runSodt({"smooth", cube, dir / name, "--iterations", "2", "--quiet"}, dir);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(exists(dir / name));
+  EXPECT_EQ(dir.entries().size(), 1u);  // no temporary file left
+}
+
+TEST(CliOutput, ADanglingSymbolicLinkIsRefusedSayingWhy) {
+  TempDir dir;
+  ASSERT_EQ(::symlink("missing/target.ply", (dir / "link.ply").c_str()), 0);
+  const std::string cube = std::string(SODT_MESH_DIR) + "/cube_jitter.ply";
+  const RunResult r = runSodt({"smooth", cube, dir / "link.ply", "--iterations", "2", "--quiet"}, dir);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("symbolic link to a file that does not exist"), std::string::npos) << r.err;
+  char target[64] = {0};
+  EXPECT_GT(::readlink((dir / "link.ply").c_str(), target, sizeof target - 1), 0);  // still the link
+}
+
+TEST(CliOutput, TemporaryFilesOfKilledRunsAreRemovedByTheNextRun) {
+  TempDir dir;
+  // A process id that no longer exists: a child that has ended.
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ASSERT_GT(dead, 0);
+  ASSERT_EQ(::waitpid(dead, nullptr, 0), dead);
+  const std::string stale = dir / (".out.ply.tmp" + std::to_string(dead) + "_3");
+  const std::string live = dir / (".out.ply.tmp" + std::to_string(::getpid()) + "_3");
+  const std::string other = dir / ".out.ply.tmpnotapid_3";
+  for (const std::string& f : {stale, live, other}) writeFile(f, "partial");
+  const std::string cube = std::string(SODT_MESH_DIR) + "/cube_jitter.ply";
+  const RunResult r = runSodt({"smooth", cube, dir / "out.ply", "--iterations", "2", "--quiet"}, dir);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_FALSE(exists(stale));
+  EXPECT_TRUE(exists(live));   // a running process's file is never touched
+  EXPECT_TRUE(exists(other));  // nor a name sodt did not make
 }
 
 }  // namespace

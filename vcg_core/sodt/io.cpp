@@ -18,7 +18,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <dirent.h>
 #include <fcntl.h>
+#include <csignal>
 #include <fstream>
 #include <sstream>
 #include <functional>
@@ -995,7 +997,8 @@ template <class M>
 void saveMeshImpl(PendingFile& out, const M& m, const SaveOptions& opt) {
   try {
     writeMesh(out.target(), out.tempPath(), m, opt);
-    if (opt.verify) verifyWritten(out.target(), out.tempPath(), m);
+    // A device or FIFO cannot be read back.
+    if (opt.verify && !out.direct()) verifyWritten(out.target(), out.tempPath(), m);
   } catch (const InvalidInput&) {
     throw;
   } catch (const IoError&) {
@@ -1023,25 +1026,90 @@ MeshFormat meshFormatFromPath(const std::string& path) {
 void loadMesh(const std::string& path, MeshD& m, LoadInfo* info) { loadMeshImpl(path, m, info); }
 void loadMesh(const std::string& path, MeshF& m, LoadInfo* info) { loadMeshImpl(path, m, info); }
 
+namespace {
+
+/// The directory part of a path ("." without one, "/" for the root).
+std::string dirOf(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+}
+
+/// Removes the temporary files of earlier runs for this target that ended
+/// without cleaning up (SIGKILL, a crash): names made by PendingFile for the
+/// same target whose process no longer exists. Files of live processes, this
+/// one included, and anything else are left alone.
+void removeStaleTemporaries(const std::string& dir, const std::string& stem) {
+  DIR* d = ::opendir(dir.c_str());
+  if (d == nullptr) return;
+  const long self = static_cast<long>(::getpid());
+  while (const dirent* e = ::readdir(d)) {
+    const std::string name = e->d_name;
+    if (name.compare(0, stem.size(), stem) != 0) continue;
+    // The rest must be PID "_" COUNTER, both decimal.
+    const std::string rest = name.substr(stem.size());
+    const std::size_t us = rest.find('_');
+    if (us == 0 || us == std::string::npos || us + 1 == rest.size() || us > 9 ||
+        rest.find_first_not_of("0123456789", 0) != us ||
+        rest.find_first_not_of("0123456789", us + 1) != std::string::npos)
+      continue;
+    const long pid = std::strtol(rest.substr(0, us).c_str(), nullptr, 10);
+    if (pid <= 0 || pid == self) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH) (void)::unlinkat(::dirfd(d), name.c_str(), 0);
+  }
+  ::closedir(d);
+}
+
+}  // namespace
+
 PendingFile::PendingFile(const std::string& target) : target_(target), resolved_(target) {
   if (target.empty()) throw IoError("cannot write: empty file name");
   if (target.back() == '/') throw IoError("cannot write " + quoted(target) + ": is a directory");
   struct stat st;
+  // What the path names, links followed. A character device or a FIFO (also
+  // /dev/stdout when it is a pipe) cannot be replaced without breaking it: it
+  // is written directly. Anything but those and regular files is refused.
+  if (::stat(target.c_str(), &st) == 0) {
+    if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) {
+      if (::access(target.c_str(), W_OK) != 0) throwErrno("cannot write " + quoted(target));
+      direct_ = true;
+      temp_ = target;
+      return;
+    }
+    if (S_ISDIR(st.st_mode)) throw IoError("cannot write " + quoted(target) + ": is a directory");
+    if (S_ISBLK(st.st_mode))
+      throw IoError("cannot write " + quoted(target) + ": is a block device (a disk), not a file");
+    if (S_ISSOCK(st.st_mode)) throw IoError("cannot write " + quoted(target) + ": is a socket");
+    if (!S_ISREG(st.st_mode)) throw IoError("cannot write " + quoted(target) + ": not a regular file");
+  }
   if (::lstat(target.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
     char* real = ::realpath(target.c_str(), nullptr);
-    if (real == nullptr) throwErrno("cannot write " + quoted(target) + " (symbolic link)");
+    if (real == nullptr) {
+      if (errno == ENOENT)
+        throw IoError("cannot write " + quoted(target) +
+                      ": it is a symbolic link to a file that does not exist (like cp, sodt does not "
+                      "create a file through a dangling link; remove the link or write to its target)");
+      throwErrno("cannot write " + quoted(target) + " (symbolic link)");
+    }
     resolved_ = real;
     std::free(real);
   }
   const bool exists = ::stat(resolved_.c_str(), &st) == 0;
-  if (exists && S_ISDIR(st.st_mode)) throw IoError("cannot write " + quoted(target) + ": is a directory");
   // rename() would replace a read-only file too; keep its protection.
   if (exists && ::access(resolved_.c_str(), W_OK) != 0) throwErrno("cannot write " + quoted(target));
   const std::size_t slash = resolved_.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : resolved_.substr(0, slash));
-  const std::string base = slash == std::string::npos ? resolved_ : resolved_.substr(slash + 1);
-  const std::string prefix = (slash == std::string::npos ? "" : resolved_.substr(0, slash + 1)) + "." + base +
-                             ".tmp" + std::to_string(static_cast<long>(::getpid())) + "_";
+  const std::string dir = dirOf(resolved_);
+  std::string base = slash == std::string::npos ? resolved_ : resolved_.substr(slash + 1);
+  // ".BASE.tmpPID_N" must fit in a name of the directory's file system: a
+  // long BASE is shortened (the target keeps its name).
+  const std::string pid = std::to_string(static_cast<long>(::getpid()));
+  long nameMax = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+  if (nameMax <= 0) nameMax = 255;
+  const std::size_t room = 1 + 4 + pid.size() + 1 + 10;  // "." ".tmp" PID "_" counter
+  if (base.size() + room > static_cast<std::size_t>(nameMax))
+    base.resize(static_cast<std::size_t>(nameMax) > room ? static_cast<std::size_t>(nameMax) - room : 1);
+  const std::string stem = "." + base + ".tmp";
+  removeStaleTemporaries(dir, stem);
+  const std::string prefix = (slash == std::string::npos ? "" : resolved_.substr(0, slash + 1)) + stem + pid + "_";
   int fd = -1;
   for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
     temp_ = prefix + std::to_string(tempCounter++);
@@ -1055,11 +1123,15 @@ PendingFile::PendingFile(const std::string& target) : target_(target), resolved_
 }
 
 PendingFile::~PendingFile() {
-  if (!committed_) ::unlink(temp_.c_str());
+  if (!committed_ && !direct_) ::unlink(temp_.c_str());
 }
 
 void PendingFile::commit() {
   if (committed_) return;
+  if (direct_) {  // written in place; nothing to rename or sync
+    committed_ = true;
+    return;
+  }
   const int fd = ::open(temp_.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0 || ::fsync(fd) != 0) {
     const int e = errno;
@@ -1071,9 +1143,7 @@ void PendingFile::commit() {
   if (::rename(temp_.c_str(), resolved_.c_str()) != 0) throwErrno("cannot replace " + quoted(target_));
   committed_ = true;
   // Make the rename itself durable; failing here loses nothing already written.
-  const std::size_t slash = resolved_.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : resolved_.substr(0, slash));
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  const int dfd = ::open(dirOf(resolved_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dfd >= 0) {
     (void)::fsync(dfd);
     ::close(dfd);

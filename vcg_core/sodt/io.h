@@ -71,7 +71,12 @@ void loadMesh(const std::string& path, MeshF& m, LoadInfo* info = nullptr);
 /// removes the temporary file, so the target is either the old file or the
 /// complete new one, never a partial write. The target is replaced, not
 /// rewritten in place: an existing target must be writable, its permission
-/// bits are kept (not its owner or hard links); a symbolic link is followed.
+/// bits are kept (not its owner or hard links); a symbolic link is followed
+/// (a dangling one is refused, as cp does). Temporary files that earlier
+/// runs left behind for the same target (killed with SIGKILL) are removed.
+/// A character device or a FIFO (/dev/null, a named pipe, /dev/stdout on a
+/// pipe) is written directly instead (direct()); block devices, sockets and
+/// other special files are refused.
 class PendingFile {
  public:
   /// Creates the temporary file (empty). \throw IoError naming the target.
@@ -80,8 +85,11 @@ class PendingFile {
   PendingFile(const PendingFile&) = delete;
   PendingFile& operator=(const PendingFile&) = delete;
 
-  /// Path the caller writes to before commit().
+  /// Path the caller writes to before commit() (the target itself when direct()).
   const std::string& tempPath() const { return temp_; }
+  /// True when the target is a character device or a FIFO, written in place:
+  /// nothing is renamed, read back or removed.
+  bool direct() const { return direct_; }
   /// Path given to the constructor.
   const std::string& target() const { return target_; }
   /// Flushes the temporary file to disk and renames it over the target.
@@ -93,6 +101,7 @@ class PendingFile {
   std::string resolved_;  ///< target with a final symbolic link followed
   std::string temp_;
   bool committed_ = false;
+  bool direct_ = false;
 };
 
 /// Writes m into out.tempPath() in the format of out.target()'s extension,
