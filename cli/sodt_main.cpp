@@ -510,13 +510,18 @@ struct Distance {
 /// on threads threads (the result does not depend on their number).
 template <class RefMesh>
 Distance distanceTo(MeshD& m, RefMesh& ref, int threads) {
-  vcg::Box3d box;
-  for (const auto& v : ref.vert)
-    if (!v.IsD()) box.Add(v.cP());
+  // The surfaces only: unreferenced vertices are neither measured nor the
+  // measure's scale.
+  const vcg::Box3d box = sodt::surfaceBox(ref);
   const double diag = box.Diag();
+  std::vector<char> onSurface(m.vert.size(), 0);
+  for (const auto& f : m.face)
+    if (!f.IsD())
+      for (int j = 0; j < 3; ++j) onSurface[static_cast<std::size_t>(f.cV(j) - &m.vert[0])] = 1;
   double far = 0;
-  for (const auto& v : m.vert) {
-    if (v.IsD()) continue;
+  for (std::size_t i = 0; i < m.vert.size(); ++i) {
+    const auto& v = m.vert[i];
+    if (v.IsD() || !onSurface[i]) continue;
     double d2 = 0;
     for (int k = 0; k < 3; ++k) {
       const double e = std::max({box.min[k] - v.cP()[k], 0.0, v.cP()[k] - box.max[k]});

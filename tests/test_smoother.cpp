@@ -258,3 +258,24 @@ TEST(Smoother, NonManifoldVerticesStayFixed) {
   EXPECT_EQ(m.vert[a].cP(), pa);
   EXPECT_EQ(m.vert[b].cP(), pb);
 }
+
+TEST(Smoother, AnUnreferencedVertexChangesNothing) {
+  // The deviation bound is relative to the surface's size: a vertex no face
+  // uses, however far away, must not widen it (nor move).
+  for (const sodt::Algorithm algorithm : {sodt::Algorithm::Basic, sodt::Algorithm::Feature}) {
+    sodt::MeshD plain, extra;
+    jitteredSphere(plain, 0.6);
+    jitteredSphere(extra, 0.6);
+    vcg::tri::Allocator<sodt::MeshD>::AddVertex(extra, vcg::Point3d(1e6, 0, 0));
+    sodt::SodtParams p;
+    p.algorithm = algorithm;
+    const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshD>::Apply(plain, p);
+    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshD>::Apply(extra, p);
+    EXPECT_GT(a.moved, 0);
+    EXPECT_EQ(a.moved, b.moved);
+    EXPECT_EQ(a.rejected, b.rejected);
+    for (int i = 0; i < plain.vn; ++i) ASSERT_EQ(plain.vert[i].P(), extra.vert[i].P()) << "vertex " << i;
+    EXPECT_EQ(extra.vert.back().P(), vcg::Point3d(1e6, 0, 0));
+    EXPECT_DOUBLE_EQ(sodt::bboxDiagonal(extra), sodt::bboxDiagonal(plain));
+  }
+}

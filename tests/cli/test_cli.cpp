@@ -1421,4 +1421,30 @@ TEST(CliOutput, TemporaryFilesOfKilledRunsAreRemovedByTheNextRun) {
   EXPECT_TRUE(exists(other));  // nor a name sodt did not make
 }
 
+// ---------------------------------------------------------------------------
+// Unreferenced vertices
+
+TEST(CliUnreferenced, AFarUnusedVertexChangesNeitherTheResultNorTheReport) {
+  TempDir dir;
+  const SimpleMesh sphere = jitteredSphere(3, 0.6, 77);
+  SimpleMesh extra = sphere;
+  extra.xyz.insert(extra.xyz.end(), {1e6, 0, 0});
+  writeFile(dir / "plain.off", toOff(sphere));
+  writeFile(dir / "extra.off", toOff(extra));
+  const RunResult a = runSodt({"smooth", dir / "plain.off", dir / "plain_out.ply", "--report", dir / "a.json"}, dir);
+  const RunResult b = runSodt({"smooth", dir / "extra.off", dir / "extra_out.ply", "--report", dir / "b.json"}, dir);
+  ASSERT_EQ(a.exitCode, 0) << a.err;
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  const std::string ja = readFile(dir / "a.json"), jb = readFile(dir / "b.json");
+  for (const char* key : {"hausdorff_rel", "mean_distance_rel", "min_angle_after", "moved", "rejected"})
+    EXPECT_EQ(jsonNumber(ja, key), jsonNumber(jb, key)) << key;
+  EXPECT_LT(jsonNumber(jb, "hausdorff_rel"), 0.003);  // the 0.1 % bound, up to bent faces
+  sodt::MeshD pa, pb;
+  sodt::loadMesh(dir / "plain_out.ply", pa);
+  sodt::loadMesh(dir / "extra_out.ply", pb);
+  ASSERT_EQ(pb.vn, pa.vn + 1);
+  for (int i = 0; i < pa.vn; ++i) ASSERT_EQ(pa.vert[i].P(), pb.vert[i].P()) << "vertex " << i;
+  EXPECT_EQ(pb.vert.back().P(), vcg::Point3d(1e6, 0, 0));
+}
+
 }  // namespace

@@ -820,12 +820,29 @@ VolumeResult enclosedVolume(const MeshType& m, int threads = 1) {
   return r;
 }
 
-/// Length of the bounding-box diagonal of the live vertices.
+/// Bounding box of the mesh's surface: the vertices of its live faces (of
+/// all live vertices when it has no face). Unreferenced vertices, which the
+/// smoother keeps untouched, do not change the mesh's size: not the
+/// deviation bound, not a relative distance.
+template <class MeshType>
+vcg::Box3d surfaceBox(const MeshType& m) {
+  vcg::Box3d b;
+  bool anyFace = false;
+  for (const auto& f : m.face)
+    if (!f.IsD()) {
+      anyFace = true;
+      for (int j = 0; j < 3; ++j) b.Add(detail::toVec3<MeshType>(f.cV(j)->cP()));
+    }
+  if (!anyFace)
+    for (const auto& v : m.vert)
+      if (!v.IsD()) b.Add(detail::toVec3<MeshType>(v.cP()));
+  return b;
+}
+
+/// Length of the diagonal of surfaceBox(m) (0 for an empty mesh).
 template <class MeshType>
 double bboxDiagonal(const MeshType& m) {
-  vcg::Box3d b;
-  for (const auto& v : m.vert)
-    if (!v.IsD()) b.Add(detail::toVec3<MeshType>(v.cP()));
+  const vcg::Box3d b = surfaceBox(m);
   return b.IsNull() ? 0.0 : b.Diag();
 }
 

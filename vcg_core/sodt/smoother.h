@@ -801,11 +801,12 @@ struct SodtSmoother {
 #endif
   }
 
-  /// Bounding-box diagonal of the live vertices.
+  /// Bounding-box diagonal of the vertices of live faces: an unreferenced
+  /// vertex (kept untouched) does not change the mesh's size.
   static double bboxDiagonal(const std::vector<Vec3>& pos, const RingTopology& topo) {
     vcg::Box3d b;
     for (std::size_t i = 0; i < pos.size(); ++i)
-      if (topo.kind[i] != VertexKind::Deleted) b.Add(pos[i]);
+      if (topo.kind[i] != VertexKind::Deleted && topo.kind[i] != VertexKind::Isolated) b.Add(pos[i]);
     return b.IsNull() ? 0.0 : b.Diag();
   }
 
