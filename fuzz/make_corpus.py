@@ -87,7 +87,12 @@ def ply_ascii(verts, faces, comment=None, extra_vertex=None):
     return ("\n".join(h + body) + "\n").encode()
 
 
-def ply_binary(verts, faces, big_endian=False, coord="float", index="int", count="uchar", flags=None):
+PACK = {"char": "b", "uchar": "B", "short": "h", "ushort": "H", "int": "i", "uint": "I", "float": "f",
+        "double": "d"}
+
+
+def ply_binary(verts, faces, big_endian=False, coord="float", index="int", count="uchar", flags=None,
+               extra_vertex=None):
     e = ">" if big_endian else "<"
     cf = {"float": "f", "double": "d"}[coord]
     idf = {"int": "i", "uint": "I", "short": "h", "ushort": "H"}[index]
@@ -97,12 +102,16 @@ def ply_binary(verts, faces, big_endian=False, coord="float", index="int", count
     h += ["property %s %s" % (coord, c) for c in "xyz"]
     if flags is not None:
         h.append("property int flags")
+    for typ, name, _ in extra_vertex or []:
+        h.append("property %s %s" % (typ, name))
     h += ["element face %d" % len(faces), "property list %s %s vertex_indices" % (count, index), "end_header"]
     out = ("\n".join(h) + "\n").encode()
     for i, v in enumerate(verts):
         out += struct.pack(e + cf * 3, *v)
         if flags is not None:
             out += struct.pack(e + "i", flags[i])
+        for typ, _, values in extra_vertex or []:
+            out += struct.pack(e + PACK[typ], values[i])
     for f in faces:
         out += struct.pack(e + cnf + idf * len(f), len(f), *f)
     return out
@@ -125,6 +134,10 @@ def seeds():
     yield "tetra_ascii.ply", BASIC, ply_ascii(TETRA_V, TETRA_F)
     yield "tetra_binary_le.ply", FEATURE | FLIPS, ply_binary(TETRA_V, TETRA_F)
     yield "tetra_binary_be_double.ply", BASIC | FLOAT, ply_binary(TETRA_V, TETRA_F, big_endian=True, coord="double")
+    yield "octa_binary_be_all_types.ply", FEATURE | FLOAT, ply_binary(
+        OCTA_V, OCTA_F, big_endian=True, coord="double",
+        extra_vertex=[(t, "p_" + t, [k + 1 for k in range(6)]) for t in PACK] +
+                     [("double", "quality", [0.25] * 6), ("uchar", "red", [9] * 6)])
     yield "octa.off", OFF | BASIC, off(OCTA_V, OCTA_F)
     yield "octa_binary_ushort.ply", DENOISE | KEEPBEST, ply_binary(OCTA_V, OCTA_F, index="ushort")
     yield "octa_selected.ply", BASIC | SELECTED, ply_binary(OCTA_V, OCTA_F, flags=[0x20, 0, 0x20, 0, 0x20, 0])

@@ -1447,4 +1447,91 @@ TEST(CliUnreferenced, AFarUnusedVertexChangesNeitherTheResultNorTheReport) {
   EXPECT_EQ(pb.vert.back().P(), vcg::Point3d(1e6, 0, 0));
 }
 
+// ---------------------------------------------------------------------------
+// Big-endian PLY
+
+/// Appends v as a value of PLY type `type` in the given byte order.
+void putValue(std::string& out, const std::string& type, double v, bool bigEndian) {
+  unsigned char b[8];
+  int n = 0;
+  auto raw = [&](const void* p, int size) {
+    std::memcpy(b, p, static_cast<std::size_t>(size));
+    n = size;
+  };
+  if (type == "char" || type == "int8") { const int8_t x = static_cast<int8_t>(v); raw(&x, 1); }
+  else if (type == "uchar" || type == "uint8") { const uint8_t x = static_cast<uint8_t>(v); raw(&x, 1); }
+  else if (type == "short" || type == "int16") { const int16_t x = static_cast<int16_t>(v); raw(&x, 2); }
+  else if (type == "ushort" || type == "uint16") { const uint16_t x = static_cast<uint16_t>(v); raw(&x, 2); }
+  else if (type == "int" || type == "int32") { const int32_t x = static_cast<int32_t>(v); raw(&x, 4); }
+  else if (type == "uint" || type == "uint32") { const uint32_t x = static_cast<uint32_t>(v); raw(&x, 4); }
+  else if (type == "float" || type == "float32") { const float x = static_cast<float>(v); raw(&x, 4); }
+  else { const double x = v; raw(&x, 8); }  // double, float64
+  if (bigEndian) std::reverse(b, b + n);  // the host is little-endian (x86-64)
+  out.append(reinterpret_cast<const char*>(b), static_cast<std::size_t>(n));
+}
+
+/// A binary tetrahedron whose coordinates have type coord, with one extra
+/// vertex property of every integer and float type and faces as lists of
+/// (count, index) types.
+std::string binaryTet(bool bigEndian, const std::string& coord, const std::string& count, const std::string& index) {
+  static const std::vector<std::string> extras{"char",   "uchar",  "short",  "ushort", "int",   "uint",   "float",
+                                               "double", "int8",   "uint8",  "int16",  "uint16", "int32", "uint32",
+                                               "float32", "float64"};
+  std::string h = std::string("ply\nformat ") + (bigEndian ? "binary_big_endian" : "binary_little_endian") +
+                  " 1.0\nelement vertex 4\n";
+  for (const char* a : {"x", "y", "z"}) h += "property " + coord + " " + a + "\n";
+  h += "property double quality\n";
+  for (std::size_t k = 0; k < extras.size(); ++k) h += "property " + extras[k] + " extra" + std::to_string(k) + "\n";
+  h += "element face 4\nproperty list " + count + " " + index + " vertex_indices\nend_header\n";
+  const double xyz[4][3] = {{0.1, -0.3, 0.0}, {1.35, -0.3, 0.0}, {0.1, 2.2, 0.0}, {0.1, -0.3, 3.75}};
+  for (int v = 0; v < 4; ++v) {
+    for (int k = 0; k < 3; ++k) putValue(h, coord, xyz[v][k], bigEndian);
+    putValue(h, "double", 0.25 + v, bigEndian);
+    for (std::size_t k = 0; k < extras.size(); ++k) putValue(h, extras[k], 3.0 * v + static_cast<double>(k), bigEndian);
+  }
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  for (const auto& f : faces) {
+    putValue(h, count, 3, bigEndian);
+    for (int c : f) putValue(h, index, c, bigEndian);
+  }
+  return h;
+}
+
+TEST(CliPly, BigEndianLoadsAsLittleEndianForEveryType) {
+  TempDir dir;
+  for (const std::string coord : {"float", "double", "float32", "float64"})
+    for (const auto& list : std::vector<std::pair<std::string, std::string>>{
+             {"uchar", "int"}, {"char", "uint"}, {"int", "int32"}, {"uint8", "uint32"}, {"int8", "short"}}) {
+      SCOPED_TRACE(coord + " coordinates, faces as '" + list.first + " " + list.second + "' lists");
+      writeFile(dir / "be.ply", binaryTet(true, coord, list.first, list.second));
+      writeFile(dir / "le.ply", binaryTet(false, coord, list.first, list.second));
+      sodt::MeshD be, le;
+      sodt::LoadInfo bi, li;
+      ASSERT_NO_THROW(sodt::loadMesh(dir / "be.ply", be, &bi));
+      ASSERT_NO_THROW(sodt::loadMesh(dir / "le.ply", le, &li));
+      ASSERT_EQ(be.vn, 4);
+      ASSERT_EQ(be.fn, 4);
+      ASSERT_EQ(le.fn, 4);
+      EXPECT_TRUE(bi.vertexQuality);
+      for (int v = 0; v < 4; ++v) {
+        EXPECT_EQ(be.vert[v].P(), le.vert[v].P()) << "vertex " << v;
+        EXPECT_EQ(be.vert[v].Q(), le.vert[v].Q()) << "vertex " << v;
+      }
+      EXPECT_DOUBLE_EQ(be.vert[3].P()[2], coord == "double" || coord == "float64" ? 3.75 : double(3.75f));
+      EXPECT_EQ(be.vert[2].Q(), 2.25);
+      for (int f = 0; f < 4; ++f)
+        for (int k = 0; k < 3; ++k)
+          EXPECT_EQ(be.face[f].cV(k) - &be.vert[0], le.face[f].cV(k) - &le.vert[0]) << "face " << f;
+    }
+  // Through the command line as well: the report of a big-endian file is the
+  // little-endian one's.
+  writeFile(dir / "be.ply", binaryTet(true, "double", "uchar", "int"));
+  writeFile(dir / "le.ply", binaryTet(false, "double", "uchar", "int"));
+  const RunResult a = runSodt({"stats", dir / "be.ply"}, dir), b = runSodt({"stats", dir / "le.ply"}, dir);
+  ASSERT_EQ(a.exitCode, 0) << a.err;
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  EXPECT_EQ(jsonNumber(a.out, "volume"), jsonNumber(b.out, "volume"));
+  EXPECT_EQ(jsonNumber(a.out, "min_angle"), jsonNumber(b.out, "min_angle"));
+}
+
 }  // namespace

@@ -745,6 +745,19 @@ struct ScratchFile {
   }
 };
 
+/// A scratch file of TMPDIR (or /tmp) for scratch, opened for writing.
+std::ofstream scratchStream(ScratchFile& scratch, const std::string& path) {
+  const char* tmp = std::getenv("TMPDIR");
+  std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/sodt_ply_XXXXXX";
+  std::vector<char> name(templ.begin(), templ.end());
+  name.push_back('\0');
+  const int fd = ::mkstemp(name.data());
+  if (fd < 0) throw InvalidInput(quoted(path) + ": cannot create a scratch file in " + quoted(templ));
+  ::close(fd);
+  scratch.path = name.data();
+  return std::ofstream(scratch.path, std::ios::binary | std::ios::trunc);
+}
+
 /// vcglib 2020.09 reads PLY header lines into a 512-byte buffer, so a long
 /// comment (metadata as JSON, say) breaks an otherwise valid header. When
 /// path has such comment or obj_info lines, writes a copy with them
@@ -769,15 +782,7 @@ std::string plyWithShortComments(const std::string& path, ScratchFile& scratch) 
     }
   }
   if (!tooLong || !complete) return path;
-  const char* tmp = std::getenv("TMPDIR");
-  std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/sodt_ply_XXXXXX";
-  std::vector<char> name(templ.begin(), templ.end());
-  name.push_back('\0');
-  const int fd = ::mkstemp(name.data());
-  if (fd < 0) return path;
-  ::close(fd);
-  scratch.path = name.data();
-  std::ofstream out(scratch.path, std::ios::binary | std::ios::trunc);
+  std::ofstream out = scratchStream(scratch, path);
   for (const std::string& h : header) out << h << '\n';
   out << in.rdbuf();  // the body, unchanged
   out.close();
@@ -787,11 +792,94 @@ std::string plyWithShortComments(const std::string& path, ScratchFile& scratch) 
   return scratch.path;
 }
 
+/// vcglib 2020.09 byte-swaps big-endian chars, shorts, ints and floats but
+/// not doubles (its SwapDouble is empty), so a big-endian PLY with double
+/// properties loads as garbage. When file is binary_big_endian, writes a
+/// little-endian copy into scratch (every scalar and list value swapped by
+/// its type's size, the format line changed) and returns its path;
+/// otherwise returns file. \pre checkPlyStructure accepted file.
+std::string plyInLittleEndian(const std::string& file, const std::string& path, ScratchFile& scratch) {
+  std::ifstream in(file, std::ios::binary);
+  struct Prop {
+    int countSize = 0;  ///< 0: a scalar
+    int valueSize = 0;
+  };
+  struct Elem {
+    long long count = 0;
+    std::vector<Prop> props;
+  };
+  auto typeSize = [](const std::string& t) -> int {
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+    if (t == "double" || t == "float64") return 8;
+    return 0;
+  };
+  std::vector<std::string> header;
+  std::vector<Elem> elems;
+  bool bigEndian = false;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream ls(line);
+    std::vector<std::string> tok;
+    for (std::string w; ls >> w;) tok.push_back(w);
+    if (!tok.empty() && tok[0] == "format" && tok.size() >= 2) {
+      if (tok[1] != "binary_big_endian") return file;
+      bigEndian = true;
+      line = "format binary_little_endian 1.0";
+    } else if (!tok.empty() && tok[0] == "element" && tok.size() >= 3) {
+      elems.push_back(Elem{std::stoll(tok[2]), {}});
+    } else if (!tok.empty() && tok[0] == "property" && !elems.empty()) {
+      Prop pr;
+      if (tok.size() >= 5 && tok[1] == "list") {
+        pr.countSize = typeSize(tok[2]);
+        pr.valueSize = typeSize(tok[3]);
+      } else if (tok.size() >= 3) {
+        pr.valueSize = typeSize(tok[1]);
+      }
+      if (pr.valueSize == 0 || (tok[1] == "list" && pr.countSize == 0)) return file;  // let vcglib report it
+      elems.back().props.push_back(pr);
+    }
+    header.push_back(line);
+    if (!tok.empty() && tok[0] == "end_header") break;
+  }
+  if (!bigEndian) return file;
+  const std::vector<char> body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<char> out(body.size());
+  std::size_t at = 0;
+  auto take = [&](int size) {
+    if (at + static_cast<std::size_t>(size) > body.size())
+      throw InvalidInput(quoted(path) + ": PLY parse error: the data ends early");
+    for (int k = 0; k < size; ++k) out[at + static_cast<std::size_t>(k)] = body[at + static_cast<std::size_t>(size - 1 - k)];
+    at += static_cast<std::size_t>(size);
+  };
+  for (const Elem& e : elems)
+    for (long long i = 0; i < e.count; ++i)
+      for (const Prop& pr : e.props) {
+        if (pr.countSize == 0) {
+          take(pr.valueSize);
+          continue;
+        }
+        take(pr.countSize);
+        unsigned long long n = 0;  // the count, now little-endian
+        for (int k = pr.countSize - 1; k >= 0; --k)
+          n = (n << 8) | static_cast<unsigned char>(out[at - static_cast<std::size_t>(pr.countSize - k)]);
+        for (unsigned long long v = 0; v < n; ++v) take(pr.valueSize);
+      }
+  std::copy(body.begin() + static_cast<std::ptrdiff_t>(at), body.end(), out.begin() + static_cast<std::ptrdiff_t>(at));
+  std::ofstream o = scratchStream(scratch, path);
+  for (const std::string& h : header) o << h << '\n';
+  o.write(out.data(), static_cast<std::streamsize>(out.size()));
+  o.close();
+  if (!o) throw InvalidInput(quoted(path) + ": cannot write a little-endian copy to " + quoted(scratch.path));
+  return scratch.path;
+}
+
 template <class M>
 void loadPly(const std::string& path, M& m, LoadInfo& info) {
-  ScratchFile scratch;
-  const std::string file = plyWithShortComments(path, scratch);
-  checkPlyStructure(file, path);  // first: vcglib's own header reader crashes on some headers
+  ScratchFile shortened, swapped;
+  const std::string checked = plyWithShortComments(path, shortened);
+  checkPlyStructure(checked, path);  // first: vcglib's own header reader crashes on some headers
+  const std::string file = plyInLittleEndian(checked, path, swapped);
   checkPlyHeader(file, path);
   using Importer = vcg::tri::io::ImporterPLY<M>;
   int mask = 0;
