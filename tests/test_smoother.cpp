@@ -279,3 +279,52 @@ TEST(Smoother, AnUnreferencedVertexChangesNothing) {
     EXPECT_DOUBLE_EQ(sodt::bboxDiagonal(extra), sodt::bboxDiagonal(plain));
   }
 }
+
+TEST(Smoother, TheSameResultAtEverySizeItAcceptsAndAClearRefusalBeyond) {
+  sodt::MeshD unit;
+  jitteredSphere(unit, 0.6);
+  const double diag0 = sodt::bboxDiagonal(unit);
+  sodt::MeshD ref;
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(ref, unit);
+  sodt::SodtSmoother<sodt::MeshD>::Apply(ref, sodt::SodtParams{});
+  const double refMin = sodt::computeAngleStats(ref).minDeg;
+  const double refBelow30 = sodt::computeAngleStats(ref).fracBelow30;
+  ASSERT_GT(refMin, sodt::computeAngleStats(unit).minDeg + 0.5);
+  // A copy of the unit sphere whose diagonal is `diagonal`.
+  auto scaled = [&](sodt::MeshD& m, double diagonal) {
+    vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(m, unit);
+    for (auto& v : m.vert) v.P() *= diagonal / diag0;
+  };
+  std::vector<double> sizes{sodt::kMinMeshSize * (1 + 1e-9), sodt::kMaxMeshSize * (1 - 1e-9)};
+  for (int k = -30; k <= 40; k += 5) sizes.push_back(std::pow(10.0, k) * 1.7);
+  for (const double d : sizes) {
+    if (d > sodt::kMaxMeshSize) continue;
+    char trace[64];
+    std::snprintf(trace, sizeof trace, "diagonal %g", d);
+    SCOPED_TRACE(trace);
+    sodt::MeshD m, input;
+    scaled(m, d);
+    scaled(input, d);
+    EXPECT_NO_THROW(sodt::classifyVertices(m, 2, 2));
+    sodt::SodtSmoother<sodt::MeshD>::Apply(m, sodt::SodtParams{});
+    // The same quality within the same relative bound. (Positions may take
+    // other paths: rounding at another scale tips a guard's choice here and
+    // there.)
+    EXPECT_NEAR(sodt::computeAngleStats(m).minDeg, refMin, 1e-6);
+    EXPECT_NEAR(sodt::computeAngleStats(m).fracBelow30, refBelow30, 0.01);
+    EXPECT_LT(sodt::hausdorffRel(m, input), 0.003);
+  }
+  for (const double d : {sodt::kMinMeshSize / 2, sodt::kMaxMeshSize * 2}) {
+    sodt::MeshD m;
+    scaled(m, d);
+    const auto before = positions(m);
+    try {
+      sodt::SodtSmoother<sodt::MeshD>::Apply(m, sodt::SodtParams{});
+      ADD_FAILURE() << "diagonal " << d << " was accepted";
+    } catch (const sodt::InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("range sodt works in, 1e-30 to 1e40"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(positions(m), before);
+    EXPECT_THROW(sodt::classifyVertices(m, 2, 2), sodt::InvalidInput);
+  }
+}

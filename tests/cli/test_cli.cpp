@@ -1534,4 +1534,37 @@ TEST(CliPly, BigEndianLoadsAsLittleEndianForEveryType) {
   EXPECT_EQ(jsonNumber(a.out, "min_angle"), jsonNumber(b.out, "min_angle"));
 }
 
+// ---------------------------------------------------------------------------
+// Mesh sizes
+
+TEST(CliSizes, EveryCommandRefusesSizesOutsideTheVerifiedRange) {
+  TempDir dir;
+  for (const double scale : {1e-31, 1e41, 1e80, 1e149}) {
+    SimpleMesh m = jitteredSphere(2, 0.5, 3);
+    for (double& x : m.xyz) x *= scale;
+    writeFile(dir / "s.off", toOff(m));
+    for (const std::vector<std::string>& cmd :
+         {std::vector<std::string>{"smooth", dir / "s.off", dir / "o.ply"}, {"stats", dir / "s.off"},
+          {"classify", dir / "s.off", dir / "c.ply"}}) {
+      const RunResult r = runSodt(cmd, dir);
+      EXPECT_EQ(r.exitCode, 1) << cmd[0] << " at scale " << scale;
+      EXPECT_NE(r.err.find(scale < 1 ? "too small" : "too large"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("1e-30 to 1e40"), std::string::npos) << r.err;
+    }
+    EXPECT_FALSE(exists(dir / "o.ply"));
+  }
+  // Just inside the range at both ends: the same angles as at unit size.
+  std::vector<double> minAngles;
+  for (const double scale : {1.0, 1e-30, 1e39}) {
+    SimpleMesh m = jitteredSphere(2, 0.5, 3);
+    for (double& x : m.xyz) x *= scale;
+    writeFile(dir / "s.off", toOff(m));
+    const RunResult r = runSodt({"smooth", dir / "s.off", dir / "o.ply", "--report", dir / "r.json"}, dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    minAngles.push_back(jsonNumber(readFile(dir / "r.json"), "min_angle_after"));
+  }
+  EXPECT_NEAR(minAngles[1], minAngles[0], 1e-6);
+  EXPECT_NEAR(minAngles[2], minAngles[0], 1e-6);
+}
+
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -127,8 +128,25 @@ inline Classification classifyRings(const RingTopology& topo, const std::vector<
   return c;
 }
 
+/// Bounding-box diagonal of the vertices of faces (neither isolated nor
+/// deleted): the mesh's size, which an unreferenced vertex does not change.
+inline double surfaceDiagonal(const std::vector<Vec3>& pos, const RingTopology& topo) {
+  Vec3 lo(0, 0, 0), hi(0, 0, 0);
+  bool any = false;
+  for (std::size_t i = 0; i < pos.size(); ++i) {
+    if (topo.kind[i] == VertexKind::Deleted || topo.kind[i] == VertexKind::Isolated) continue;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = any ? std::min(lo[k], pos[i][k]) : pos[i][k];
+      hi[k] = any ? std::max(hi[k], pos[i][k]) : pos[i][k];
+    }
+    any = true;
+  }
+  return any ? (hi - lo).Norm() : 0.0;
+}
+
 /// Classifies every vertex of m (Eq. 9-10) with sensitivities epsilon and eta.
-/// \throw InvalidInput for epsilon or eta not positive.
+/// \throw InvalidInput for epsilon or eta not positive, or a mesh outside the
+///        sizes of checkMeshSize().
 template <class MeshType>
 Classification classifyVertices(const MeshType& m, double epsilon, double eta) {
   if (!(epsilon > 0) || !(eta > 0)) throw InvalidInput("epsilon and eta must be positive");
@@ -136,6 +154,7 @@ Classification classifyVertices(const MeshType& m, double epsilon, double eta) {
   std::vector<Vec3> pos(m.vert.size());
   for (std::size_t i = 0; i < m.vert.size(); ++i)
     if (!m.vert[i].IsD()) pos[i] = Vec3::Construct(m.vert[i].cP());
+  checkMeshSize(surfaceDiagonal(pos, topo));
   return classifyRings(topo, pos, meanEdgeLength(m), epsilon, eta);
 }
 

@@ -948,6 +948,20 @@ void loadMeshImpl(const std::string& path, M& m, LoadInfo* infoOut) {
     }
     if (m.vert[i].IsS()) ++info.selectedVertices;
   }
+  // The size of the surface (the vertices of faces; all vertices of a point
+  // cloud): every command refuses the sizes the smoother does.
+  std::vector<char> onFace(m.vert.size(), 0);
+  for (const auto& f : m.face)
+    for (int j = 0; j < 3; ++j) onFace[static_cast<std::size_t>(f.cV(j) - &m.vert[0])] = 1;
+  vcg::Box3d box;
+  for (std::size_t i = 0; i < m.vert.size(); ++i)
+    if (onFace[i] || m.fn == 0) box.Add(vcg::Point3d::Construct(m.vert[i].cP()));
+  try {
+    checkMeshSize(box.IsNull() ? 0.0 : box.Diag());
+  } catch (const InvalidInput& e) {
+    m.Clear();
+    throw InvalidInput(quoted(path) + ": " + e.what());
+  }
   vcg::tri::UpdateBounding<M>::Box(m);
   if (m.fn > 0) vcg::tri::UpdateNormal<M>::PerVertexNormalizedPerFace(m);
   if (infoOut) *infoOut = info;

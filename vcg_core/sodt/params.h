@@ -3,6 +3,7 @@
 // headers: the plugin, the CLI and the tests all fill SodtParams from here.
 #pragma once
 
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -38,6 +39,25 @@ class InvalidInput : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;
 };
+
+/// The mesh sizes (bounding-box diagonal of the vertices of its faces) the
+/// smoother and the classification are verified at, with a margin: the same
+/// result, scaled, from 1e-40 to 1e50; beyond, powers of edge lengths in
+/// the local systems underflow or overflow double precision.
+constexpr double kMinMeshSize = 1e-30;
+constexpr double kMaxMeshSize = 1e40;
+
+/// Throws InvalidInput when a mesh of size diagonal (> 0) lies outside
+/// [kMinMeshSize, kMaxMeshSize]; a mesh of size 0 (one point) is left to the
+/// caller.
+inline void checkMeshSize(double diagonal) {
+  if (diagonal == 0 || (diagonal >= kMinMeshSize && diagonal <= kMaxMeshSize)) return;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3g", diagonal);
+  throw InvalidInput(std::string("the mesh is too ") + (diagonal < kMinMeshSize ? "small" : "large") +
+                     ": its bounding-box diagonal is " + buf +
+                     ", outside the range sodt works in, 1e-30 to 1e40; scale it into that range first");
+}
 
 /// Parameters of one smoothing run. Defaults live here only; the plugin dialog,
 /// the CLI help and the README table are derived from SodtParams{}.

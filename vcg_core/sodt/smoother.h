@@ -70,8 +70,8 @@ struct SodtSmoother {
   ///           returning false stops after the current sweep.
   /// \param classes when not null, receives the classification used (all
   ///        interior vertices Smooth for Basic).
-  /// \throw InvalidInput for bad parameters or a non-finite coordinate; the
-  ///        mesh is untouched then.
+  /// \throw InvalidInput for bad parameters, a non-finite coordinate or a
+  ///        mesh outside the sizes of checkMeshSize(); the mesh is untouched then.
   static SodtStats Apply(MeshType& m, const SodtParams& p, vcg::CallBackPos* cb = nullptr,
                          Classification* classes = nullptr) {
     p.validate();
@@ -110,6 +110,7 @@ struct SodtSmoother {
     std::vector<int>().swap(slot);
     const std::vector<int> faceOrder = sortFacesByVertex(faces, nv);  // working face -> index in m.face
     RingTopology topo = buildRingTopology(faces, deleted);  // rebuilt after edge flips
+    checkMeshSize(surfaceDiagonal(pos, topo));
     // The length scale of classification, crease moves and denoising steps;
     // Algorithm 1 and the references do not use it.
     const bool usesMeanEdge = p.algorithm == Algorithm::Feature || p.algorithm == Algorithm::Denoise;
@@ -210,7 +211,7 @@ struct SodtSmoother {
       input.faces = p.flips ? &faces0 : &faces;
       input.topo = p.flips ? &topo0 : &topo;
       input.pos = &pos0;
-      input.prepare(p.maxDeviationRel * bboxDiagonal(pos, topo));
+      input.prepare(p.maxDeviationRel * surfaceDiagonal(pos, topo));
     }
     Context ctx{p, cls, fit, meanEdge, deviationGuard ? &input : nullptr, p.simd && lanes::available()};
     FlipRules flipRules;
@@ -799,15 +800,6 @@ struct SodtSmoother {
     (void)requested;
     return 1;
 #endif
-  }
-
-  /// Bounding-box diagonal of the vertices of live faces: an unreferenced
-  /// vertex (kept untouched) does not change the mesh's size.
-  static double bboxDiagonal(const std::vector<Vec3>& pos, const RingTopology& topo) {
-    vcg::Box3d b;
-    for (std::size_t i = 0; i < pos.size(); ++i)
-      if (topo.kind[i] != VertexKind::Deleted && topo.kind[i] != VertexKind::Isolated) b.Add(pos[i]);
-    return b.IsNull() ? 0.0 : b.Diag();
   }
 
   /// Rounds a double position to what the mesh can store.
