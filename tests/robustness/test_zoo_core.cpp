@@ -283,7 +283,15 @@ TEST(ZooScale, DecimalScalingKeepsTheMinAngleFloat) { checkDecimalScaling<MeshF>
 /// overflow, every solve fails and nothing moves.)
 TEST(ZooScale, ExtremeScalesDoNotBreak) {
   const sodt_zoo::Soup unitSoup = sodt_zoo::scaledToDiagonal(sodt_zoo::jitteredSphere(2, 0.35, 1), 1.0);
-  for (double diag : {1e-100, 1e-30, 1e30, 1e100})
+  // Beyond the sizes it is verified at, the smoother refuses, mesh untouched.
+  for (double diag : {1e-100, 1e100}) {
+    MeshD m;
+    sodt_zoo::toMesh(sodt_zoo::scaledToDiagonal(unitSoup, diag), m);
+    const double x0 = m.vert[5].P()[0];
+    EXPECT_THROW(sodt::SodtSmoother<MeshD>::Apply(m, sodt::SodtParams()), sodt::InvalidInput);
+    EXPECT_EQ(m.vert[5].P()[0], x0);
+  }
+  for (double diag : {sodt::kMinMeshSize * 1.001, 1e-20, 1e30, sodt::kMaxMeshSize * 0.999})
     for (Algorithm a : {Algorithm::Basic, Algorithm::Feature, Algorithm::Denoise}) {
       SCOPED_TRACE(std::string(sodt::toString(a)) + " at diagonal " + std::to_string(diag));
       MeshD m, ref;
