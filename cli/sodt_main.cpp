@@ -943,7 +943,8 @@ int runSmooth(const std::vector<std::string>& args) {
   sodt::LoadInfo info;
   loadInput(o.in, m, &info);
   if (o.params.selectedOnly && info.selectedVertices == 0)
-    throw UsageError("--selected-only: the input has no selected vertices", kSmoothHelp);
+    throw sodt::InvalidInput("'" + o.in + "': --selected-only, but no vertex of the input is selected "
+                             "(a PLY 'flags' property with the selection bit; MeshLab: export with Flags)");
 
   gStatus.draw("measuring input...");
   const Measures before = measure(m, workerThreads(o.params.threads));
@@ -1176,7 +1177,7 @@ int main(int argc, char** argv) {
     return run(args);
   } catch (const UsageError& e) {
     gStatus.end(false);
-    std::fprintf(stderr, "sodt: error: %s\nsee '%s'\n", e.what(), e.helpCommand.c_str());
+    std::fprintf(stderr, "sodt: error: %s (see '%s')\n", e.what(), e.helpCommand.c_str());
     return kExitUsage;
   } catch (const std::bad_alloc&) {
     gStatus.end(false);

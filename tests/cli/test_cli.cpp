@@ -22,6 +22,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <sys/wait.h>
@@ -328,11 +329,12 @@ class CliTest : public ::testing::Test {
     in_ = dir_ / "in.off";
     writeFile(in_, toOff(mesh_));
   }
-  /// Asserts a usage error: exit 2, one error line and the help hint.
+  /// Asserts a usage error: exit 2, one error line ending in the help hint.
   static void expectUsageError(const RunResult& r) {
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_EQ(r.err.find("sodt: error: "), 0u) << r.err;
-    EXPECT_NE(r.err.find("see 'sodt"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(" (see 'sodt"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
   }
   /// Asserts an input/output failure: exit 1 and one error line.
@@ -393,7 +395,7 @@ TEST_F(CliTest, BadThreadsValuesAreUsageErrors) {
   for (const char* v : {"-1", "abc", "1025", "", "1.5", "2x", "99999999999999999999"}) {
     const RunResult r = runSodt({"smooth", in_, out, "--threads", v, "--report", report}, dir_);
     expectUsageError(r);
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << v << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << v << ": " << r.err;
     EXPECT_NE(r.err.find("threads"), std::string::npos) << v << ": " << r.err;
   }
   RunResult r = runSodt({"smooth", in_, out, "--threads=-1"}, dir_);
@@ -451,11 +453,11 @@ TEST_F(CliTest, ReportMayNotOverwriteOutOrInput) {
   expectOnly({"in.off"});
 }
 
-TEST_F(CliTest, SelectedOnlyWithoutSelectionIsUsageError) {
+TEST_F(CliTest, SelectedOnlyWithoutSelectionIsAnInputError) {
   const std::string out = dir_ / "out.ply";
   const RunResult r = runSodt({"smooth", in_, out, "--selected-only"}, dir_);
-  expectUsageError(r);
-  EXPECT_NE(r.err.find("no selected vertices"), std::string::npos) << r.err;
+  expectFailure(r);
+  EXPECT_NE(r.err.find("no vertex of the input is selected"), std::string::npos) << r.err;
   expectOnly({"in.off"});
 }
 
@@ -466,7 +468,7 @@ TEST_F(CliTest, BadFeatureParameterValuesAreUsageErrors) {
     for (const std::string& v : notNumbers) {
       const RunResult r = runSodt({"smooth", in_, out, opt, v}, dir_);
       expectUsageError(r);
-      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << opt << " " << v << ": " << r.err;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << opt << " " << v << ": " << r.err;
       EXPECT_NE(r.err.find(opt), std::string::npos) << r.err;
     }
     expectUsageError(runSodt({"smooth", in_, out, std::string(opt) + "=-0.5"}, dir_));
@@ -1565,6 +1567,72 @@ TEST(CliSizes, EveryCommandRefusesSizesOutsideTheVerifiedRange) {
   }
   EXPECT_NEAR(minAngles[1], minAngles[0], 1e-6);
   EXPECT_NEAR(minAngles[2], minAngles[0], 1e-6);
+}
+
+// ---------------------------------------------------------------------------
+// Messages that name what is wrong and where
+
+TEST(CliMessages, EachNamesTheProblemAndWhereItIs) {
+  TempDir dir;
+  const std::string tetV = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n", tetF = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  auto binaryPly = [](const std::string& header, const std::string& coord, int declaredVertices, bool faceFirst,
+                      const std::string& listIndex = "int") {
+    std::string v = "element vertex " + std::to_string(declaredVertices) + "\nproperty " + coord +
+                    " x\nproperty " + coord + " y\nproperty " + coord + " z\n";
+    std::string f = "element face 4\nproperty list uchar " + listIndex + " vertex_indices\n";
+    std::string s = header + (faceFirst ? f + v : v + f) + "end_header\n";
+    std::string vb, fb;
+    const double xyz[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (const auto& p : xyz)
+      for (double c : p) putValue(vb, coord, c, false);
+    const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    for (const auto& t : faces) {
+      putValue(fb, "uchar", 3, false);
+      for (int c : t) putValue(fb, listIndex, c, false);
+    }
+    return s + (faceFirst ? fb + vb : vb + fb);
+  };
+  const std::string ple = "ply\nformat binary_little_endian 1.0\n";
+  const std::vector<std::tuple<std::string, std::string, std::vector<std::string>>> cases{
+      {"more_vertices.ply", binaryPly(ple, "float", 5, false), {"face 0 has ", "(byte ", "header count"}},
+      {"face_first.ply", binaryPly(ple, "float", 4, true), {"element 'face' before element 'vertex'"}},
+      {"int_coords.ply", binaryPly(ple, "int", 4, false), {"vertex property 'x' has type 'int'", "float or double"}},
+      {"uchar_coords.ply", binaryPly(ple, "uchar", 4, false), {"'x' has type 'uchar'"}},
+      {"int_uint_list.ply",
+       [&] {
+         std::string s = binaryPly(ple, "float", 4, false, "uint");
+         s.replace(s.find("list uchar uint"), 15, "list int uint");
+         return s;
+       }(),
+       {"face lists of type 'int uint' are not supported"}},
+      {"extra_values.off", "OFF\n4 4 0\n0 0 0 5 6\n1 0 0\n0 1 0\n0 0 1\n" + tetF,
+       {"line 3 does not hold whole vertices", "vertex 1 runs on to line 4", "COFF"}},
+      {"nul.off", std::string("OFF\n4 4 0\n0 0 0\n1 0\0 0\n", 21) + "0 1 0\n0 0 1\n" + tetF,
+       {"line 4: vertex 1: expected a number, got '0\\x00'"}},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(std::get<0>(c));
+    writeFile(dir / std::get<0>(c), std::get<1>(c));
+    const RunResult r = runSodt({"stats", dir / std::get<0>(c)}, dir);
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    for (const std::string& part : std::get<2>(c)) EXPECT_NE(r.err.find(part), std::string::npos) << r.err;
+  }
+  // Line ends of every kind: "\r\n" and a lone '\r' (old Mac files) read as '\n'.
+  for (const std::string eol : {"\r\n", "\r"}) {
+    std::string off = "OFF\n4 4 0\n" + tetV + tetF;
+    for (std::size_t at = off.find('\n'); at != std::string::npos; at = off.find('\n', at + eol.size()))
+      off.replace(at, 1, eol);
+    writeFile(dir / "eol.off", off);
+    const RunResult r = runSodt({"stats", dir / "eol.off"}, dir);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(jsonNumber(r.out, "faces"), 4) << r.out;
+    // and a bad value is reported on its line
+    off.replace(off.rfind('3'), 1, "x");
+    writeFile(dir / "eol.off", off);
+    const RunResult bad = runSodt({"stats", dir / "eol.off"}, dir);
+    EXPECT_NE(bad.err.find("at line 10: face 3: expected a vertex index, got 'x'"), std::string::npos) << bad.err;
+  }
 }
 
 }  // namespace

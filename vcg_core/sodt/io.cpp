@@ -35,6 +35,24 @@ namespace {
 
 std::string quoted(const std::string& path) { return "'" + path + "'"; }
 
+/// A token of a file for a message: quoted, control bytes (a NUL would cut
+/// the message short) as \xNN, and at most 40 bytes.
+std::string shown(const char* p, std::size_t n) {
+  std::string r = "'";
+  for (std::size_t i = 0; i < std::min<std::size_t>(n, 40); ++i) {
+    const unsigned char c = static_cast<unsigned char>(p[i]);
+    if (c < 0x20 || c == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      r += hex;
+    } else {
+      r += static_cast<char>(c);
+    }
+  }
+  return r + (n > 40 ? "...'" : "'");
+}
+std::string shown(const std::string& s) { return shown(s.data(), s.size()); }
+
 /// Largest coordinate magnitude accepted on input.
 constexpr double kMaxCoordinate = 1e150;
 
@@ -71,7 +89,7 @@ inline bool isSpace(char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
 
 /// The whitespace-separated tokens of a text stream, read in large blocks:
 /// the tokenizer of the OFF reader and of the ASCII PLY check. Lines end at
-/// '\n'; with comments, a '#' ends a token and starts a comment that runs
+/// '\n', "\r\n" or a lone '\r'; with comments, a '#' ends a token and starts a comment that runs
 /// to the end of its line. Blocks, with no library call per character and
 /// no string per token, keep the tokenizing cheaper than the parsing of the
 /// numbers themselves.
@@ -97,11 +115,23 @@ class TextScanner {
     tok.assign(p, n);
     return true;
   }
-  /// Drops what is left of the current line, its '\n' included.
+  /// Drops what is left of the current line, its line end included.
   void skipRestOfLine() {
     for (;;) {
       if (at_ == end_ && !fill()) return;
+      if (afterCr_) {  // the '\n' of a "\r\n" whose '\r' ended the last line
+        afterCr_ = false;
+        if (buf_[at_] == '\n') ++at_;
+        continue;
+      }
       const char* nl = static_cast<const char*>(std::memchr(buf_.data() + at_, '\n', end_ - at_));
+      const char* cr = static_cast<const char*>(std::memchr(buf_.data() + at_, '\r', (nl ? nl : buf_.data() + end_) - (buf_.data() + at_)));
+      if (cr && cr + 1 != nl) {  // a lone '\r' (old Mac line ends) ends the line too
+        at_ = static_cast<std::size_t>(cr - buf_.data()) + 1;
+        newLine();
+        afterCr_ = true;
+        return;
+      }
       if (nl) {
         at_ = static_cast<std::size_t>(nl - buf_.data()) + 1;
         newLine();
@@ -162,9 +192,14 @@ class TextScanner {
     for (;;) {
       if (at_ == end_ && !fill()) return false;
       const char c = buf_[at_];
-      if (c == '\n') {
+      if (c == '\n' && afterCr_) {  // the '\n' of a "\r\n" whose '\r' ended the line
+        ++at_;
+        afterCr_ = false;
+      } else if (c == '\n' || c == '\r') {
+        // '\r' ends a line as '\n' does (a following '\n' belongs to it).
         ++at_;
         newLine();
+        afterCr_ = c == '\r';
         if (!crossLines) return false;
       } else if (comments_ && c == '#') {
         skipRestOfLine();
@@ -172,7 +207,9 @@ class TextScanner {
       } else if (isSpace(c)) {
         ++at_;
         midLine_ = true;
+        afterCr_ = false;
       } else {
+        afterCr_ = false;
         return true;
       }
     }
@@ -202,7 +239,8 @@ class TextScanner {
   std::vector<char> buf_;
   std::size_t at_ = 0, end_ = 0;
   bool eof_ = false;
-  long lines_ = 0;         ///< '\n' consumed
+  long lines_ = 0;         ///< line ends consumed
+  bool afterCr_ = false;   ///< the last character consumed was a '\r' that ended a line
   bool midLine_ = false;   ///< characters consumed after the last '\n'
   long tokenLine_ = 0;
 };
@@ -270,9 +308,17 @@ void readOff(const std::string& path, OffData& d) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput("cannot open " + quoted(path) + ": " + std::strerror(errno));
   TextScanner t(in, true);
+  // Set at the first vertex whose values run over a line end: a line with
+  // more or fewer values than whole vertices shifts every later value, and
+  // the error it causes (in the faces, say) is far from that line.
+  std::string shiftHint;
   auto fail = [&](const std::string& what) {
-    throw InvalidInput(quoted(path) + ": OFF parse error at line " + std::to_string(t.line()) + ": " +
-                       what);
+    throw InvalidInput(quoted(path) + ": OFF parse error at line " + std::to_string(t.line()) + ": " + what +
+                       shiftHint);
+  };
+  auto eofIn = [&](const std::string& what, long long i, long long count) {
+    throw InvalidInput(quoted(path) + ": unexpected end of file in " + what + " " + std::to_string(i) + " of " +
+                       std::to_string(count) + shiftHint);
   };
   std::string tok;
   if (!t.next(tok)) throw InvalidInput(quoted(path) + ": empty file");
@@ -289,16 +335,16 @@ void readOff(const std::string& path, OffData& d) {
       texcoords = true;
       ++i;
     } else if (c == '4' || c == 'n') {
-      throw InvalidInput(quoted(path) + ": unsupported OFF variant '" + tok + "' (only 3D vertices)");
+      throw InvalidInput(quoted(path) + ": unsupported OFF variant " + shown(tok) + " (only 3D vertices)");
     } else {
-      throw InvalidInput(quoted(path) + ": not an OFF file (keyword '" + tok + "')");
+      throw InvalidInput(quoted(path) + ": not an OFF file (keyword " + shown(tok) + ")");
     }
   }
   long long nv = 0, nf = 0;
   if (!t.next(tok) || !parseLong(tok, nv) || nv < 0 || nv > INT_MAX)
-    fail("expected the vertex count, got '" + tok + "'");
+    fail("expected the vertex count, got " + shown(tok));
   if (!t.next(tok) || !parseLong(tok, nf) || nf < 0 || nf > INT_MAX)
-    fail("expected the face count, got '" + tok + "'");
+    fail("expected the face count, got " + shown(tok));
   t.skipRestOfLine();  // the edge count is optional and unused
 
   // Grow with the data actually present: a huge declared count in a short
@@ -308,16 +354,22 @@ void readOff(const std::string& path, OffData& d) {
   const bool lineBased = d.color || texcoords;  // colour counts vary: one vertex per line
   const char* p = nullptr;  // the token [p, p + n) (see TextScanner::next)
   std::size_t n = 0;
+  const int perVertex = normals ? 6 : 3;
   for (long long i = 0; i < nv; ++i) {
-    for (int k = 0; k < (normals ? 6 : 3); ++k) {
-      if (!t.next(p, n))
-        throw InvalidInput(quoted(path) + ": unexpected end of file in vertex " + std::to_string(i) +
-                           " of " + std::to_string(nv));
+    long firstLine = 0;
+    for (int k = 0; k < perVertex; ++k) {
+      if (!t.next(p, n)) eofIn("vertex", i, nv);
+      if (k == 0) firstLine = t.line();
       double x = 0;
       if (!parseDouble(p, n, x))
-        fail("vertex " + std::to_string(i) + ": expected a number, got '" + std::string(p, n) + "'");
+        fail("vertex " + std::to_string(i) + ": expected a number, got " + shown(p, n));
       if (k < 3) d.xyz.push_back(x);
     }
+    if (shiftHint.empty() && t.line() != firstLine)
+      shiftHint = "; line " + std::to_string(firstLine) + " does not hold whole vertices (an OFF vertex has " +
+                  (normals ? "6 values, x y z and a normal" : "3 values, x y z") +
+                  "; colours need the COFF keyword), so vertex " + std::to_string(i) + " runs on to line " +
+                  std::to_string(t.line()) + " and every later value is shifted";
     if (lineBased) {
       const std::vector<std::string> rest = t.restOfLine();
       unsigned char c[4] = {255, 255, 255, 255};
@@ -331,21 +383,17 @@ void readOff(const std::string& path, OffData& d) {
   std::vector<int> poly;
   for (long long f = 0; f < nf; ++f) {
     long long corners = 0;
-    if (!t.next(p, n))
-      throw InvalidInput(quoted(path) + ": unexpected end of file in face " + std::to_string(f) + " of " +
-                         std::to_string(nf));
+    if (!t.next(p, n)) eofIn("face", f, nf);
     if (!parseLong(p, n, corners))
-      fail("face " + std::to_string(f) + ": expected a corner count, got '" + std::string(p, n) + "'");
+      fail("face " + std::to_string(f) + ": expected a corner count, got " + shown(p, n));
     if (corners < 3 || corners > nv)
       fail("face " + std::to_string(f) + " has " + std::to_string(corners) + " corners");
     poly.clear();
     for (long long k = 0; k < corners; ++k) {
       long long idx = 0;
-      if (!t.next(p, n))
-        throw InvalidInput(quoted(path) + ": unexpected end of file in face " + std::to_string(f) +
-                           " of " + std::to_string(nf));
+      if (!t.next(p, n)) eofIn("face", f, nf);
       if (!parseLong(p, n, idx))
-        fail("face " + std::to_string(f) + ": expected a vertex index, got '" + std::string(p, n) + "'");
+        fail("face " + std::to_string(f) + ": expected a vertex index, got " + shown(p, n));
       if (idx < 0 || idx >= nv)
         fail("face " + std::to_string(f) + ": vertex index " + std::to_string(idx) + " out of range [0, " +
              std::to_string(nv) + ")");
@@ -508,6 +556,28 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
   }
   if (!ended) fail("the header has no 'end_header'");
 
+  // What vcglib would report only as "Bad vertex index in face" or "No
+  // vertex field found".
+  std::size_t vertexElem = elems.size(), faceElem = elems.size();
+  for (std::size_t k = 0; k < elems.size(); ++k) {
+    if (elems[k].name == "vertex" && vertexElem == elems.size()) vertexElem = k;
+    if (elems[k].name == "face" && faceElem == elems.size()) faceElem = k;
+  }
+  if (faceElem < vertexElem && vertexElem < elems.size() && elems[faceElem].count > 0)
+    fail("the header declares element 'face' before element 'vertex'; the reader needs the vertices first "
+         "(write the vertex element first)");
+  if (vertexElem < elems.size() && elems[vertexElem].count > 0) {
+    int coords = 0;
+    for (const Prop& pr : elems[vertexElem].props) {
+      if (pr.list || (pr.name != "x" && pr.name != "y" && pr.name != "z")) continue;
+      if (!pr.valueFloat)
+        fail("vertex property '" + pr.name + "' has type '" + pr.valueType +
+             "'; coordinates must be float or double");
+      ++coords;
+    }
+    if (coords < 3) fail("the vertex element lacks float or double properties 'x', 'y' and 'z'");
+  }
+
   long long vertices = 0;
   for (const Elem& e : elems) {
     if (e.name == "vertex") vertices = e.count;
@@ -526,8 +596,9 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       const std::string& c = pr.countType;
       const std::string& v = pr.valueType;
       const bool countOk = c == "uchar" || c == "char" || c == "int" || c == "uint8" || c == "int8" || c == "int32";
-      const bool indexOk = v == "int" || v == "uint" || v == "int32" || v == "uint32" ||
-                           (v == "short" && c != "int" && c != "int32");
+      const bool wideCount = c == "int" || c == "int32";
+      const bool indexOk = v == "int" || v == "int32" || ((v == "uint" || v == "uint32") && !wideCount) ||
+                           (v == "short" && !wideCount);
       if (!countOk || !indexOk)
         fail("face lists of type '" + c + " " + v + "' are not supported (use 'uchar int')");
     }
@@ -571,8 +642,7 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
   };
   auto checkToken = [&](const char* t, std::size_t size, bool floatType) {
     if (!plainNumber(t, size, !floatType))
-      fail("malformed " + std::string(floatType ? "number" : "integer") + " '" +
-           std::string(t, std::min<std::size_t>(size, 40)) + "' in the data");
+      fail("malformed " + std::string(floatType ? "number" : "integer") + " " + shown(t, size) + " in the data");
   };
   // An ASCII body is read by a scanner of its own (TextScanner).
   std::unique_ptr<TextScanner> text;
@@ -695,6 +765,14 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
       }
       continue;
     }
+    // Where a bad face was read: the byte offset (binary) or line (ASCII),
+    // and, in binary, what most often puts faces out of step.
+    auto at = [&](long long valueBytes) {
+      if (ascii) return " (line " + std::to_string(text->line()) + ")";
+      return " (byte " + std::to_string(bufBase + static_cast<long long>(bufAt) - valueBytes) +
+             " of the file; a header count larger or smaller than the data it describes reads the faces "
+             "from the wrong place)";
+    };
     for (long long i = 0; i < e.count; ++i)
       for (const Prop& pr : e.props) {
         if (!pr.list) {
@@ -706,12 +784,14 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
         if (isFace && pr.isIndex) {
           if (n < 3 || n > 255)
             fail("face " + std::to_string(i) + " has " + (n < 0 ? std::string("an invalid number of") : std::to_string(n)) +
-                 " corners; faces need 3 to 255 corners");
+                 " corners; faces need 3 to 255 corners" + at(pr.countSize));
           for (long long k = 0; k < n; ++k) {
             long long idx = 0;
             if (!readInt(pr.valueFloat, pr.valueSize, pr.valueSigned, idx)) truncated(e);
             if (idx < 0 || idx >= vertices)
-              fail("face " + std::to_string(i) + " has a vertex index out of range");
+              fail("face " + std::to_string(i) + " has a vertex index out of range, " +
+                   (idx < 0 ? std::string("negative") : std::to_string(idx)) + " of " + std::to_string(vertices) +
+                   " vertices" + at(pr.valueSize));
           }
           continue;
         }
