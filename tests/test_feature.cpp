@@ -172,5 +172,7 @@ TEST(Feature, DeviationGuardBoundsTheDistanceToTheInput) {
   // The other direction (input points the output no longer covers, on chords
   // of the bent faces) is not bounded by the guard, but stays small.
   EXPECT_LT(guarded, 0.0025);
-  EXPECT_GT(unguarded, 10 * guarded);
+  // Without the bound the faces cut across the bent cube's creases; only the
+  // reach box (the input's bounding box) still holds them.
+  EXPECT_GT(unguarded, 5 * guarded);
 }

@@ -328,3 +328,54 @@ TEST(Smoother, TheSameResultAtEverySizeItAcceptsAndAClearRefusalBeyond) {
     EXPECT_THROW(sodt::classifyVertices(m, 2, 2), sodt::InvalidInput);
   }
 }
+
+TEST(Smoother, NoGuardedMoveLeavesTheInputsBoxGrownByTheBound) {
+  // Thin closed double fans: two high-valence apexes over a jittered,
+  // elongated rim, all needles. Their stars do not surround their centres in
+  // the tangent plane, so the fold test alone let S-ODT targets fly off
+  // (up to 2.3 diagonals outside the box before the reach checks).
+  int runs = 0;
+  for (unsigned seed = 1; seed <= 5; ++seed)
+    for (int n : {12, 40}) {
+      std::mt19937 g(seed);
+      std::vector<vcg::Point3d> ring;
+      for (int k = 0; k < n; ++k) {
+        const double t = 2 * sodt::kPi * (k + sodt_test::uniform(g, -0.4, 0.4)) / n;
+        ring.emplace_back(10 * std::cos(t), 0.3 * std::sin(t), sodt_test::uniform(g, -0.02, 0.02));
+      }
+      sodt::MeshD input;
+      sodt_test::makeBipyramid(input, ring, vcg::Point3d(sodt_test::uniform(g, -5, 5), 0, 0.05));
+      input.vert[1].P() = vcg::Point3d(sodt_test::uniform(g, -5, 5), 0, -0.05);
+      for (auto& v : input.vert) v.ClearS();
+      const double diag = sodt::bboxDiagonal(input);
+      vcg::Box3d box;
+      for (const auto& v : input.vert) box.Add(v.cP());
+      for (const sodt::Algorithm a : {sodt::Algorithm::Basic, sodt::Algorithm::Feature, sodt::Algorithm::Denoise,
+                                      sodt::Algorithm::Odt, sodt::Algorithm::Laplacian})
+        for (const sodt::Guard guard : {sodt::Guard::Fold, sodt::Guard::Quality})
+          for (const double bound : {0.0, 0.001})
+            for (const bool flips : {false, true}) {
+              sodt::SodtParams p;
+              p.algorithm = a;
+              p.guard = guard;
+              p.maxDeviationRel = bound;
+              p.flips = flips;
+              p.keepBest = flips;
+              sodt::MeshD m;
+              vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(m, input);
+              sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+              // Denoising has no deviation bound: its box grows by a mean edge.
+              const double grow =
+                  (a == sodt::Algorithm::Denoise ? sodt::meanEdgeLength(input) : bound * diag) + 1e-9 * diag;
+              double outside = 0;
+              for (const auto& v : m.vert)
+                for (int k = 0; k < 3; ++k)
+                  outside = std::max({outside, box.min[k] - v.cP()[k] - grow, v.cP()[k] - box.max[k] - grow});
+              EXPECT_LE(outside, 0) << "seed " << seed << ", " << n << " rim vertices, " << sodt::toString(a)
+                                    << ", guard " << sodt::toString(guard) << ", bound " << bound
+                                    << (flips ? ", flips" : "") << ": " << outside / diag << " diagonals out";
+              ++runs;
+            }
+    }
+  EXPECT_EQ(runs, 400);
+}

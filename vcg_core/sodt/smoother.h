@@ -213,7 +213,9 @@ struct SodtSmoother {
       input.pos = &pos0;
       input.prepare(p.maxDeviationRel * surfaceDiagonal(pos, topo));
     }
-    Context ctx{p, cls, fit, meanEdge, deviationGuard ? &input : nullptr, p.simd && lanes::available()};
+    Context ctx{p, cls, fit, meanEdge, deviationGuard ? &input : nullptr, p.simd && lanes::available(),
+                Vec3(0, 0, 0), Vec3(0, 0, 0)};
+    reachBox(p, pos, topo, meanEdge, ctx.boxLo, ctx.boxHi);
     FlipRules flipRules;
     flipRules.maxDihedralRad = p.flipMaxDihedralDeg * kPi / 180.0;
     if (p.algorithm != Algorithm::Basic) flipRules.cls = &cls.cls;
@@ -390,6 +392,15 @@ struct SodtSmoother {
           if (moves(o) && deviationGuard && p.reuseDeviationMargins) commitMargins(i, from, budget);
           return true;
         };
+        // withinReach for a vertex the kernel moved, from its ring in pos.
+        const auto laneWithinReach = [&](int i, const Vec3& y) {
+          for (int k = 0; k < 3; ++k)
+            if (!(y[k] >= ctx.boxLo[k] && y[k] <= ctx.boxHi[k])) return false;
+          const double s2 = (y - pos[i]).SquaredNorm();
+          for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k)
+            if (s2 <= (pos[topo.ringIdx[k]] - pos[i]).SquaredNorm()) return true;
+          return false;
+        };
         // When the margins of vertex i's last move answer the deviation test
         // of its move to y with no distance query, commits the move as the
         // visit would (InputSurface::keepsByMargins); false, with nothing
@@ -454,7 +465,7 @@ struct SodtSmoother {
               const int i = vs[l];
               const bool ok = (t.ok >> l & 1) != 0;
               if (p.guard != Guard::None) {
-                if (v.allowed >> l & 1) {
+                if ((v.allowed >> l & 1) && laneWithinReach(i, Vec3(v.x[l], v.y[l], v.z[l]))) {
                   // The visit moves the vertex by the full step when nothing
                   // else is to be tested: no deviation bound, or margins that
                   // answer it. It cannot be one still() would answer: that
@@ -718,7 +729,48 @@ struct SodtSmoother {
     const InputSurface* input;  ///< deviation guard, or null
     /// tryStep tests step lengths four at once (lanes::allowedAt).
     bool lengthLanes;
+    /// The box no guarded move may leave (see reachBox).
+    Vec3 boxLo, boxHi;
   };
+
+  /// The box a guarded move must stay in: the input surface's bounding box
+  /// grown by the deviation bound (by a mean edge length for Denoise, which
+  /// has none), plus 1e-9 of its diagonal for rounding. With the fold test
+  /// alone a star whose ring does not surround its centre in the tangent
+  /// plane (needles around a high-valence vertex) lets a move fly off
+  /// without folding anything; this and the star's reach (withinReach) stop
+  /// it, whatever the other options.
+  static void reachBox(const SodtParams& p, const std::vector<Vec3>& pos, const RingTopology& topo, double meanEdge,
+                       Vec3& lo, Vec3& hi) {
+    bool any = false;
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      if (topo.kind[i] == VertexKind::Deleted || topo.kind[i] == VertexKind::Isolated) continue;
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = any ? std::min(lo[k], pos[i][k]) : pos[i][k];
+        hi[k] = any ? std::max(hi[k], pos[i][k]) : pos[i][k];
+      }
+      any = true;
+    }
+    const double diag = any ? (hi - lo).Norm() : 0.0;
+    double grow = p.algorithm == Algorithm::Denoise ? meanEdge : p.maxDeviationRel * diag;
+    grow += 1e-9 * diag;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] -= grow;
+      hi[k] += grow;
+    }
+  }
+
+  /// A guarded move to y stays in the reach box and no farther from the
+  /// centre than the centre's farthest ring vertex (a healthy star's
+  /// S-ODT, Laplacian and crease targets all lie well inside that).
+  static bool withinReach(const Context& c, const Vec3& centre, const Vec3& y, const Vec3* ring, std::size_t n) {
+    for (int k = 0; k < 3; ++k)
+      if (!(y[k] >= c.boxLo[k] && y[k] <= c.boxHi[k])) return false;
+    const double s2 = (y - centre).SquaredNorm();
+    for (std::size_t k = 0; k < n; ++k)
+      if (s2 <= (ring[k] - centre).SquaredNorm()) return true;
+    return false;
+  }
 
   /// How one vertex visit ended.
   enum class Outcome : unsigned char { Moved, Backtracked, Fallback, Rejected, Unchanged, Failed };
@@ -880,6 +932,7 @@ struct SodtSmoother {
       }
       for (int l = 0; l < m; ++l) {
         if (!(pass >> l & 1)) continue;
+        if (!withinReach(c, star.center, y[l], star.ring.data(), star.size())) continue;
         if (c.input && !c.input->keeps(i, star, y[l], hints, pointHint, (y[l] - star.center).Norm() + budget.eps,
                                        budget.drift, budget.last, budget.next, budget.queried, budget.reused))
           continue;
