@@ -806,6 +806,9 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const Measures& 
               st.moved, st.backtracked, st.fallbackMoves, st.rejected, st.failedSolves, st.unchanged, st.skipped);
   std::printf("  fixed          %d boundary, %d non-manifold; %d vertices active\n", st.fixedBoundary,
               st.fixedNonManifold, st.activeVertices);
+  if (st.reorientedFaces > 0)
+    std::printf("  winding        %d faces turned over so that each part of the mesh has one winding "
+                "(written so)\n", st.reorientedFaces);
   std::printf("  classes        %s%s\n", classCountsText(cls).c_str(),
               o.params.algorithm == sodt::Algorithm::Basic ? " (basic does not classify)" : "");
   std::printf("  smoothing      %.3f s for %d sweeps on %d thread%s (algorithm %s, guard %s, max backtracks %d)\n",
@@ -871,6 +874,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const Measures&
   j.member("returned_sweep", st.returnedSweep);
   j.member("stopped_early", st.stoppedEarly);
   j.member("flips", st.flips);
+  j.member("reoriented_faces", st.reorientedFaces);
   j.member("seconds", seconds);
   j.member("threads", st.threads);
   j.member("min_angle_before", before.angles.minDeg);
@@ -993,6 +997,11 @@ int runSmooth(const std::vector<std::string>& args) {
   if (report) report->commit();
 
   if (!o.quiet) printSmoothSummary(o, m, before, after, dist, inverted, st, cls, seconds);
+  if (!o.quiet && st.fixedNonManifold > 0)
+    std::fprintf(stderr,
+                 "sodt: warning: %d vertices stayed fixed: their faces are non-manifold (an edge with three or "
+                 "more faces, a pinch) or cannot be given one winding (a Moebius band)\n",
+                 st.fixedNonManifold);
   return kExitOk;
 }
 

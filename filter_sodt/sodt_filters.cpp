@@ -282,7 +282,7 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
     // Flips move edges between face slots: per-face-edge border flags set
     // before the run would now describe other edges. (The core has already
     // rebuilt FF and VF adjacency where they are enabled.)
-    if (s.flips > 0) vcg::tri::UpdateFlags<CMeshO>::FaceBorderFromNone(m);
+    if (s.flips > 0 || s.reorientedFaces > 0) vcg::tri::UpdateFlags<CMeshO>::FaceBorderFromNone(m);
     sodt_meshlab::updateBoxAndNormals(mm);
     if (outputClass) {
       // Without the mask the GUI neither shows nor saves the colours (and
@@ -328,6 +328,14 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
                   s.iterations, s.activeVertices, s.threads, s.threads == 1 ? "" : "s", s.moved, s.backtracked,
                   s.fallbackMoves, s.rejected, s.failedSolves, s.unchanged, s.skipped, s.fixedBoundary,
                   s.fixedNonManifold));
+    if (s.reorientedFaces > 0)
+      log(LogLevel::Info, strFormat("S-ODT: turned %d faces over so that each part of the mesh has one winding",
+                                    s.reorientedFaces));
+    if (s.fixedNonManifold > 0)
+      log(LogLevel::Warning,
+          strFormat("S-ODT: %d vertices stayed fixed: their faces are non-manifold (an edge with three or more "
+                    "faces, a pinch) or cannot be given one winding",
+                    s.fixedNonManifold));
     if (p.flips)
       log(LogLevel::Info,
           strFormat("S-ODT: edge flips: %lld (max dihedral %g deg); %s", s.flips, p.flipMaxDihedralDeg,
@@ -378,6 +386,7 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
     r["unchanged"] = count(s.unchanged);
     r["skipped_visits"] = count(s.skipped);
     r["flips"] = count(s.flips);
+    r["reoriented_faces"] = s.reorientedFaces;
     r["faces_changed"] = count(facesChanged);
     r["threads"] = s.threads;
     r["seconds"] = s.sweepSeconds;

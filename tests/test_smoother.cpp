@@ -379,3 +379,63 @@ TEST(Smoother, NoGuardedMoveLeavesTheInputsBoxGrownByTheBound) {
     }
   EXPECT_EQ(runs, 400);
 }
+
+TEST(Smoother, InconsistentWindingIsMadeCoherentNotFrozen) {
+  // A closed sphere with a random third of its faces turned over smooths as
+  // the consistent sphere does: the minority turns back, every vertex takes
+  // part, and the faces are written back with the majority's winding. (Not
+  // bit for bit: the vertices are visited in an order taken from the faces
+  // as they came.)
+  sodt::MeshD good, mixed;
+  jitteredSphere(good, 0.6);
+  jitteredSphere(mixed, 0.6);
+  std::mt19937 g(11);
+  int turned = 0;
+  for (auto& f : mixed.face)
+    if (g() % 3 == 0) {
+      std::swap(f.V(1), f.V(2));
+      ++turned;
+    }
+  ASSERT_GT(turned, 100);
+  const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshD>::Apply(good, sodt::SodtParams{});
+  const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshD>::Apply(mixed, sodt::SodtParams{});
+  EXPECT_EQ(a.reorientedFaces, 0);
+  EXPECT_EQ(b.reorientedFaces, turned);
+  EXPECT_EQ(b.fixedNonManifold, 0);
+  EXPECT_EQ(b.activeVertices, good.vn);
+  EXPECT_GT(b.moved + b.backtracked + b.fallbackMoves, (a.moved + a.backtracked + a.fallbackMoves) / 2);
+  EXPECT_EQ(sodt_test::faceIndices(mixed), sodt_test::faceIndices(good));
+  const double minGood = sodt::computeAngleStats(good).minDeg, minMixed = sodt::computeAngleStats(mixed).minDeg;
+  EXPECT_NEAR(minMixed, minGood, 0.05 * minGood);
+  EXPECT_EQ(sodt::countInvertedFaces(mixed, good), 0);
+}
+
+TEST(Smoother, EachComponentGetsItsOwnMajorityWinding) {
+  // Two spheres, the second turned inside out entirely and then a few of its
+  // faces turned back: each keeps the winding of its own majority.
+  sodt::MeshD a, b;
+  sodt_test::makeSphere(a, 2);
+  sodt_test::makeSphere(b, 2);
+  for (auto& f : b.face) std::swap(f.V(1), f.V(2));
+  for (int k = 0; k < 7; ++k) std::swap(b.face[10 * k].V(1), b.face[10 * k].V(2));
+  for (auto& v : b.vert) v.P() += vcg::Point3d(5, 0, 0);
+  sodt::MeshD both;
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::Mesh(both, a);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::Mesh(both, b);
+  sodt::SodtParams p;
+  p.iterations = 1;
+  const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(both, p);
+  EXPECT_EQ(s.reorientedFaces, 7);
+  EXPECT_EQ(s.fixedNonManifold, 0);
+  // Signed volume of each part about its own centre: the first sphere's
+  // outward winding gives a positive one, the second's inward a negative one.
+  double first = 0, second = 0;
+  for (std::size_t f = 0; f < both.face.size(); ++f) {
+    const auto& F = both.face[f];
+    const vcg::Point3d c = f < a.face.size() ? vcg::Point3d(0, 0, 0) : vcg::Point3d(5, 0, 0);
+    const double v = (F.cP(0) - c).dot((F.cP(1) - c) ^ (F.cP(2) - c)) / 6;
+    (f < a.face.size() ? first : second) += v;
+  }
+  EXPECT_GT(first, 0);
+  EXPECT_LT(second, 0);
+}

@@ -1635,4 +1635,40 @@ TEST(CliMessages, EachNamesTheProblemAndWhereItIs) {
   }
 }
 
+// ---------------------------------------------------------------------------
+// Winding
+
+TEST(CliWinding, MixedWindingIsMadeCoherentAndReported) {
+  TempDir dir;
+  SimpleMesh m = jitteredSphere(3, 0.4, 5);
+  int turned = 0;
+  for (int f = 0; f < m.faces(); f += 4, ++turned) std::swap(m.tri[3 * f + 1], m.tri[3 * f + 2]);
+  writeFile(dir / "mixed.off", toOff(m));
+  const RunResult r = runSodt({"smooth", dir / "mixed.off", dir / "out.ply", "--report", dir / "r.json"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string json = readFile(dir / "r.json");
+  EXPECT_EQ(jsonNumber(json, "reoriented_faces"), turned);
+  EXPECT_EQ(jsonNumber(json, "fixed_nonmanifold"), 0);
+  EXPECT_NE(r.out.find(std::to_string(turned) + " faces turned over"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  // Written with one winding: a closed mesh with a positive volume.
+  const RunResult st = runSodt({"stats", dir / "out.ply"}, dir);
+  EXPECT_GT(jsonNumber(st.out, "volume"), 4.0);  // the unit sphere's 4.19, not a mix
+}
+
+TEST(CliWinding, VerticesLeftFixedByNonManifoldFacesAreWarnedAbout) {
+  TempDir dir;
+  SimpleMesh m = jitteredSphere(2, 0.3, 5);
+  // A fin: one more face on the edge of face 0 makes that edge non-manifold.
+  m.xyz.insert(m.xyz.end(), {0, 0, 3});
+  m.tri.insert(m.tri.end(), {m.tri[0], m.tri[1], m.vertices() - 1});
+  writeFile(dir / "fin.off", toOff(m));
+  const RunResult r = runSodt({"smooth", dir / "fin.off", dir / "out.ply"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("sodt: warning: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("vertices stayed fixed"), std::string::npos) << r.err;
+  const RunResult quiet = runSodt({"smooth", dir / "fin.off", dir / "out.ply", "--quiet"}, dir);
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+}
+
 }  // namespace

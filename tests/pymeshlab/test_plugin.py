@@ -21,7 +21,7 @@ SMOOTH_DEFAULTS = {
 COUNTERS = ["moved", "backtracked", "fallback_moves", "rejected", "failed_solves", "unchanged"]
 REPORT_INTS = ["vertices", "faces", "smooth", "crease", "corner", "fixed", "fixed_boundary",
                "fixed_nonmanifold", "active_vertices", "sweeps", "returned_sweep", "threads",
-               "skipped_visits", "flips", "faces_changed"] + COUNTERS
+               "skipped_visits", "flips", "faces_changed", "reoriented_faces"] + COUNTERS
 REPORT_FLOATS = ["min_angle_before", "min_angle_after", "max_angle_before", "max_angle_after",
                  "frac_below_30_before", "frac_below_30_after", "seconds"]
 PALETTE = {0: (200, 200, 200), 1: (30, 90, 230), 2: (230, 30, 30), 3: (240, 200, 0)}

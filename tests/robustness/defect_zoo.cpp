@@ -337,6 +337,8 @@ ZooMesh unweldedSeam() {
 }
 
 ZooMesh inconsistentWinding() {
+  // The cap, the minority, is turned back before the run: every vertex
+  // stays interior (none is fixed where the winding changed).
   ZooMesh z = start("inconsistent_winding", "inconsistent winding: a cap of faces flipped", base());
   const Point n = unit({0.5, -0.5, 0.7});
   const int nv = static_cast<int>(z.soup.pos.size());
@@ -346,8 +348,9 @@ ZooMesh inconsistentWinding() {
     if (flip) std::swap(z.soup.tri[f][1], z.soup.tri[f][2]);
     for (int v : z.soup.tri[f]) side[v] |= flip ? 1 : 2;
   }
+  z.topologyKind = z.kind;
   for (int v = 0; v < nv; ++v)
-    if (side[v] == 3) z.kind[v] = Kind::NonManifold;
+    if (side[v] == 3) z.topologyKind[v] = Kind::NonManifold;
   z.plugin = true;
   return z;
 }

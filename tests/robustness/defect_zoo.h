@@ -55,7 +55,11 @@ struct ZooMesh {
   /// The polygons of offText (vertex indices into soup.pos), for other formats.
   std::vector<std::vector<int>> polygons;
   CoreOutcome core = CoreOutcome::Smooths;
-  std::vector<Kind> kind;   ///< expected per vertex (Smooths only)
+  std::vector<Kind> kind;   ///< expected per vertex in a run (Smooths only)
+  /// What buildRingTopology reports of the mesh as it is, when that differs
+  /// from kind (empty otherwise): with inconsistent winding, NonManifold
+  /// where it changes, which the smoother removes by turning the minority back.
+  std::vector<Kind> topologyKind;
   std::string coreError;    ///< substring of the InvalidInput message
   /// The file cannot be written with live-element semantics (deleted flags):
   /// core-only case.

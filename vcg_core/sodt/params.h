@@ -170,6 +170,9 @@ struct SodtStats {
   int creaseVertices = 0;      ///< classified crease (Feature, Denoise)
   int cornerVertices = 0;      ///< classified corner, kept fixed (Feature, Denoise)
   long long flips = 0;         ///< edges flipped between sweeps
+  /// Faces turned over before the run so that each component of the mesh
+  /// has one winding (see orientCoherently); they are written back so.
+  int reorientedFaces = 0;
   int returnedSweep = -1;      ///< sweeps behind the returned state (keepBest may return an earlier one)
   bool stoppedEarly = false;   ///< a sweep improved the quality by less than toleranceDeg
   bool cancelled = false;      ///< the progress callback asked to stop

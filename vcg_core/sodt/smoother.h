@@ -110,6 +110,13 @@ struct SodtSmoother {
     std::vector<int>().swap(slot);
     const std::vector<int> faceOrder = sortFacesByVertex(faces, nv);  // working face -> index in m.face
     RingTopology topo = buildRingTopology(faces, deleted);  // rebuilt after edge flips
+    // Inconsistent winding would leave the vertices where it changes fixed:
+    // each component gets the winding of the majority of its faces first
+    // (faces are written back then, and the count reported).
+    if (std::find(topo.kind.begin(), topo.kind.end(), VertexKind::NonManifold) != topo.kind.end()) {
+      stats.reorientedFaces = orientCoherently(faces, nv);
+      if (stats.reorientedFaces > 0) topo = buildRingTopology(faces, deleted);
+    }
     checkMeshSize(surfaceDiagonal(pos, topo));
     // The length scale of classification, crease moves and denoising steps;
     // Algorithm 1 and the references do not use it.
@@ -658,9 +665,10 @@ struct SodtSmoother {
       stats.returnedSweep = bestSweep;
     }
     // The mesh is written only here, positions and faces together.
-    if (stats.flips > 0) writeFaces(m, faces, order, faceOrder);
-    if (stats.flips > 0) {
-      // Flips invalidate any adjacency the caller had computed.
+    const bool facesChanged = stats.flips > 0 || stats.reorientedFaces > 0;
+    if (facesChanged) writeFaces(m, faces, order, faceOrder);
+    if (facesChanged) {
+      // Flips and reorientation invalidate any adjacency the caller had computed.
       if (vcg::tri::HasFFAdjacency(m)) vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
       if (vcg::tri::HasVFAdjacency(m)) vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
     }

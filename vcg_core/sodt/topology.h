@@ -145,6 +145,92 @@ inline VertexKind closeFan(const FanEdge* fan, int n, std::vector<FanEdge>& edge
 
 }  // namespace detail
 
+/// Flips faces so that every edge shared by exactly two live faces is used
+/// by them in opposite directions: each component (faces joined through
+/// such edges) gets one winding, that of the majority of its faces (of its
+/// first face on a tie). Components that cannot be oriented (a Moebius
+/// band) and faces around edges with three or more faces keep theirs. The
+/// half-edges are grouped by their lower vertex (a counting sort), so the
+/// cost is linear in the faces. nv: the number of vertices.
+/// \return the number of faces flipped.
+inline int orientCoherently(FaceList& faces, int nv) {
+  struct Half {
+    int hi, face;
+    bool up;  ///< the face runs the edge from its lower to its higher vertex
+  };
+  const std::size_t nf = faces.tri.size();
+  std::vector<int> begin(static_cast<std::size_t>(nv) + 1, 0);
+  for (std::size_t f = 0; f < nf; ++f)
+    if (faces.live[f])
+      for (int j = 0; j < 3; ++j) {
+        const int a = faces.tri[f][j], b = faces.tri[f][(j + 1) % 3];
+        if (a != b) ++begin[static_cast<std::size_t>(std::min(a, b)) + 1];
+      }
+  for (int v = 0; v < nv; ++v) begin[v + 1] += begin[v];
+  std::vector<Half> half(static_cast<std::size_t>(begin[nv]));
+  std::vector<int> fill(begin.begin(), begin.end() - 1);
+  for (std::size_t f = 0; f < nf; ++f)
+    if (faces.live[f])
+      for (int j = 0; j < 3; ++j) {
+        const int a = faces.tri[f][j], b = faces.tri[f][(j + 1) % 3];
+        if (a != b) half[static_cast<std::size_t>(fill[std::min(a, b)]++)] = Half{std::max(a, b), int(f), a < b};
+      }
+  // Faces joined by a two-face edge, and whether that edge asks one of them
+  // to turn over (both run it the same way).
+  std::vector<std::vector<std::pair<int, bool>>> next(nf);
+  bool mixed = false;
+  for (int v = 0; v < nv; ++v) {
+    std::sort(half.begin() + begin[v], half.begin() + begin[v + 1],
+              [](const Half& x, const Half& y) { return x.hi != y.hi ? x.hi < y.hi : x.face < y.face; });
+    for (int h = begin[v]; h < begin[v + 1];) {
+      int e = h + 1;
+      while (e < begin[v + 1] && half[e].hi == half[h].hi) ++e;
+      if (e - h == 2 && half[h].face != half[h + 1].face) {
+        const bool same = half[h].up == half[h + 1].up;
+        mixed = mixed || same;
+        next[half[h].face].emplace_back(half[h + 1].face, same);
+        next[half[h + 1].face].emplace_back(half[h].face, same);
+      }
+      h = e;
+    }
+  }
+  if (!mixed) return 0;
+  std::vector<signed char> parity(nf, -1);  // relative to the component's first face
+  std::vector<int> component, queue;
+  int flipped = 0;
+  for (std::size_t seed = 0; seed < nf; ++seed) {
+    if (!faces.live[seed] || parity[seed] >= 0) continue;
+    component.clear();
+    queue.assign(1, int(seed));
+    parity[seed] = 0;
+    bool orientable = true;
+    int ones = 0;
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const int f = queue[q];
+      component.push_back(f);
+      ones += parity[f];
+      for (const auto& nb : next[f]) {
+        const signed char want = static_cast<signed char>(parity[f] ^ (nb.second ? 1 : 0));
+        if (parity[nb.first] < 0) {
+          parity[nb.first] = want;
+          queue.push_back(nb.first);
+        } else if (parity[nb.first] != want) {
+          orientable = false;
+        }
+      }
+    }
+    if (!orientable) continue;
+    const int zeros = static_cast<int>(component.size()) - ones;
+    const signed char turn = ones > zeros ? 0 : 1;  // the minority turns over
+    for (int f : component)
+      if (parity[f] == turn) {
+        std::swap(faces.tri[f][1], faces.tri[f][2]);
+        ++flipped;
+      }
+  }
+  return flipped;
+}
+
 /// Builds the ring topology of the faces over nv vertices (deleted[i] marks
 /// deleted vertices). Dead faces and faces with a repeated vertex are
 /// ignored, but the vertices of a face with a repeated vertex are marked
