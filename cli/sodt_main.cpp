@@ -281,8 +281,10 @@ void printMainHelp() {
       "  classify IN OUT.ply mark every vertex of IN smooth, crease or corner (nothing moves)\n"
       "  stats IN            print quality measures of IN as JSON\n"
       "\n"
-      "Mesh files are PLY or OFF, chosen by extension (case-insensitive); OBJ is not\n"
-      "supported. Polygons are fan-triangulated on input.\n"
+      "Mesh files are PLY, OFF, OBJ or STL (binary or ASCII), chosen by extension\n"
+      "(case-insensitive). Polygons are fan-triangulated on input; the corners of STL\n"
+      "triangles with equal coordinates are welded into one vertex. STL is written in\n"
+      "binary single precision, without the vertices no face uses.\n"
       "Run 'sodt <command> --help' for the options of a command.\n"
       "\n"
       "exit status: 0 success, 1 unreadable or invalid input or I/O failure,\n"
@@ -997,6 +999,9 @@ int runSmooth(const std::vector<std::string>& args) {
   if (report) report->commit();
 
   if (!o.quiet) printSmoothSummary(o, m, before, after, dist, inverted, st, cls, seconds);
+  if (!o.quiet && info.weldedCorners > 0)
+    std::printf("  STL input      %lld corners with equal coordinates welded into %d vertices\n",
+                info.weldedCorners + m.vn, m.vn);
   if (!o.quiet && st.fixedNonManifold > 0)
     std::fprintf(stderr,
                  "sodt: warning: %d vertices stayed fixed: their faces are non-manifold (an edge with three or "

@@ -5,15 +5,16 @@
 //
 // Input layout: byte 0 selects what is exercised, the remaining bytes are the
 // file content.
-//   bit 0    : 0 = .ply, 1 = .off (the extension the bytes are written under)
-//   bits 1-2 : algorithm 0 = basic, 1 = feature, 2 = denoise, 3 = basic
+//   bit 0    : 0 = .ply, 1 = .off (the extension the bytes are written under);
+//              with bits 1-2 = 3: 0 = .obj, 1 = .stl
+//   bits 1-2 : algorithm 0 = basic, 1 = feature, 2 = denoise, 3 = basic (OBJ or STL)
 //   bit 3    : edge flips after the sweep
 //   bit 4    : guard 0 = quality, 1 = fold
 //   bit 5    : keepBest
 //   bit 6    : 0 = double mesh (MeshD, the CLI), 1 = float mesh (MeshF, like MeshLab's CMeshO)
 //   bit 7    : selectedOnly (moves only the vertices a PLY "flags" property selects)
 // A reproducer's mesh file is therefore `tail -c +2 crash-<sha1>`, to be read
-// with the extension bit 0 of its first byte names.
+// with the extension bits 0-2 of its first byte name.
 //
 // Expected outcomes: loadMesh throwing sodt::InvalidInput (or another
 // std::exception; set SODT_FUZZ_STRICT=1 to abort on anything but
@@ -71,8 +72,7 @@ bool wantDistance(const uint8_t* data, size_t size) {
 
 void removeScratch() {
   if (gDir.empty()) return;
-  ::unlink((gDir + "/input.ply").c_str());
-  ::unlink((gDir + "/input.off").c_str());
+  for (const char* ext : {"ply", "off", "obj", "stl"}) ::unlink((gDir + "/input." + ext).c_str());
   ::rmdir(gDir.c_str());
 }
 
@@ -375,12 +375,14 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const uint8_t cfg = data[0];
-  const std::string path = gDir + ((cfg & 1) ? "/input.off" : "/input.ply");
+  const bool plain = ((cfg >> 1) & 3) == 3;  // OBJ or STL
+  const std::string path =
+      gDir + (plain ? ((cfg & 1) ? "/input.stl" : "/input.obj") : ((cfg & 1) ? "/input.off" : "/input.ply"));
   if (!writeAll(path, data + 1, size - 1)) {
     std::perror("fuzz_mesh: cannot write the scratch file");
     std::abort();
   }
-  const PlyHeaderScan ply = (cfg & 1) ? PlyHeaderScan() : scanPlyHeader(data + 1, size - 1);
+  const PlyHeaderScan ply = (cfg & 1) || plain ? PlyHeaderScan() : scanPlyHeader(data + 1, size - 1);
   if (gSkipKnown &&
       (ply.elementWithoutCount || ply.unreadableFaceIndices || ply.blankAfterLeadingComment || ply.hugeElementCount))
     return 0;

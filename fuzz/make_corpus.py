@@ -17,6 +17,7 @@ import sys
 # --- configuration byte -----------------------------------------------------
 OFF = 1
 BASIC, FEATURE, DENOISE = 0 << 1, 1 << 1, 2 << 1
+OBJ, STL = 3 << 1, 3 << 1 | 1  # basic, the bytes read as .obj or .stl
 FLIPS, FOLD, KEEPBEST, FLOAT, SELECTED = 8, 16, 32, 64, 128
 
 # --- meshes -----------------------------------------------------------------
@@ -129,6 +130,27 @@ def off(verts, faces, keyword="OFF", vextra=None, comment=True):
     return ("\n".join(lines) + "\n").encode()
 
 
+def obj(verts, faces):
+    lines = ["# sodt fuzz seed"] + ["v " + " ".join(fmt(x) for x in v) for v in verts]
+    lines += ["f " + " ".join(str(i + 1) for i in f) for f in faces]
+    return ("\n".join(lines) + "\n").encode()
+
+
+def stl_binary(verts, faces):
+    out = b"binary STL seed".ljust(80, b" ") + struct.pack("<I", len(faces))
+    for f in faces:
+        out += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *verts[i]) for i in f) + b"\0\0"
+    return out
+
+
+def stl_ascii(verts, faces):
+    lines = ["solid seed"]
+    for f in faces:
+        lines += ["facet normal 0 0 0", " outer loop"] + ["  vertex " + " ".join(fmt(x) for x in verts[i]) for i in f]
+        lines += [" endloop", "endfacet"]
+    return ("\n".join(lines + ["endsolid seed"]) + "\n").encode()
+
+
 def seeds():
     sv, sf = subdivided_octahedron()
     yield "tetra_ascii.ply", BASIC, ply_ascii(TETRA_V, TETRA_F)
@@ -160,6 +182,12 @@ def seeds():
         OCTA_V, OCTA_F, comment="x" * 40,
         extra_vertex=[("float", "quality", [0.5] * 6), ("uchar", "red", [1] * 6),
                       ("uchar", "green", [2] * 6), ("uchar", "blue", [3] * 6)])
+    yield "octa.obj", OBJ | FLIPS, obj(OCTA_V, OCTA_F)
+    yield "quad_negative.obj", OBJ | FLOAT, b"# quads, relative indices\n" + b"".join(
+        b"v %s %s %s\n" % tuple(fmt(x).encode() for x in v) for v in QUAD_V) + b"".join(
+        b"f " + b" ".join(b"%d/%d/%d" % (i - len(QUAD_V), 1, 1) for i in f) + b"\n" for f in QUAD_F)
+    yield "octa_binary.stl", STL | KEEPBEST, stl_binary(OCTA_V, OCTA_F)
+    yield "tetra_ascii.stl", STL | FLOAT, stl_ascii(TETRA_V, TETRA_F)
     yield "points_only.off", OFF | BASIC, off(TETRA_V, [])
     yield "empty.ply", BASIC, b"ply\nformat ascii 1.0\nend_header\n"
 

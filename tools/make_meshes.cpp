@@ -6,6 +6,7 @@
 #include "mesh_check.h"
 
 #include <sodt/geometry.h>
+#include <sodt/io.h>
 #include <sodt/mesh.h>
 #include <sodt/metrics.h>
 
@@ -479,8 +480,18 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-/// Writes binary little-endian PLY (float x y z, int indices) or ASCII OFF.
+/// Writes binary little-endian PLY (float x y z, int indices) or ASCII OFF
+/// with vcglib, OBJ or binary STL with the project's writer.
 bool saveMesh(MeshF& m, const std::string& path) {
+  if (endsWith(path, ".stl") || endsWith(path, ".obj")) {
+    try {
+      sodt::saveMesh(path, m, sodt::SaveOptions());
+      return true;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return false;
+    }
+  }
   int err;
   if (endsWith(path, ".off"))
     err = vcg::tri::io::ExporterOFF<MeshF>::Save(m, path.c_str(), vcg::tri::io::Mask::IOM_VERTCOORD);
@@ -491,6 +502,15 @@ bool saveMesh(MeshF& m, const std::string& path) {
 }
 
 bool loadMesh(MeshF& m, const std::string& path) {
+  if (endsWith(path, ".stl") || endsWith(path, ".obj")) {
+    try {
+      sodt::loadMesh(path, m);
+      return true;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return false;
+    }
+  }
   int err;
   if (endsWith(path, ".off"))
     err = vcg::tri::io::ImporterOFF<MeshF>::Open(m, path.c_str());
@@ -511,7 +531,9 @@ bool expect(const std::string& name, std::initializer_list<std::pair<bool, const
   return ok;
 }
 
-bool expectations(const std::string& name, const MeshCheck& c, const MeshF& m) {
+bool expectations(const std::string& file, const MeshCheck& c, const MeshF& m) {
+  // The STL and OBJ copies keep the expectations of the meshes they copy.
+  const std::string name = file == "cube_jitter.stl" ? "cube_jitter.ply" : file == "torus.obj" ? "torus.off" : file;
   const bool clean = c.isolatedVertices == 0 && c.zeroAreaFaces == 0 && c.components == 1;
   if (name == "blobs_mc.ply")
     return expect(name, {{c.closedManifold(), "closed manifold"},
@@ -592,7 +614,9 @@ int generate(const std::string& outDir) {
                       {"torus.off", buildTorus},
                       {"plane_grid_open.ply", buildPlaneGrid},
                       {"cube_jitter.ply", buildCubeJitter},
-                      {"cube_noisy.ply", buildCubeNoisy}};
+                      {"cube_noisy.ply", buildCubeNoisy},
+                      {"cube_jitter.stl", buildCubeJitter},
+                      {"torus.obj", buildTorus}};
   int status = 0;
   std::printf("%s\n", sodt::tools::tableHeader());
   for (const Job& job : jobs) {

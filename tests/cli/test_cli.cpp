@@ -439,9 +439,10 @@ TEST_F(CliTest, WrongNumberOfFilesIsUsageError) {
 }
 
 TEST_F(CliTest, UnsupportedOutputExtensionIsUsageError) {
-  const RunResult r = runSodt({"smooth", in_, dir_ / "out.stl"}, dir_);
+  const RunResult r = runSodt({"smooth", in_, dir_ / "out.stp"}, dir_);
   expectUsageError(r);
-  expectUsageError(runSodt({"smooth", in_, dir_ / "out.obj"}, dir_));
+  EXPECT_NE(r.err.find("expected .ply, .off, .obj or .stl"), std::string::npos) << r.err;
+  expectUsageError(runSodt({"smooth", in_, dir_ / "out.3mf"}, dir_));
   expectOnly({"in.off"});
 }
 
@@ -588,13 +589,21 @@ TEST_F(CliTest, MissingInputFileFails) {
   expectFailure(runSodt({"stats", dir_ / "nope.off"}, dir_));
 }
 
-TEST_F(CliTest, ObjInputIsRejected) {
+TEST_F(CliTest, ObjInputIsReadWithItsVariants) {
+  // Negative (relative) indices, v/vt/vn corner forms, a w coordinate,
+  // comments, a continued line, statements smoothing ignores; upper-case
+  // extension.
   const std::string obj = dir_ / "in.OBJ";
-  writeFile(obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  const RunResult r = runSodt({"smooth", obj, dir_ / "out.ply"}, dir_);
-  expectFailure(r);
-  EXPECT_NE(r.err.find("OBJ is not supported; convert to PLY or OFF"), std::string::npos) << r.err;
-  expectOnly({"in.off", "in.OBJ"});
+  writeFile(obj,
+            "# a tetrahedron\nmtllib x.mtl\no thing\nv 0 0 0\nv 1 0 0 1.0\nv 0 1 0\nv 0 0 1\n"
+            "vt 0 0\nvn 0 0 1\ng part\nusemtl red\ns off\nf 1/1/1 3//1 2\nf -4 -3 \\\n -1\nf 1 4 3\n"
+            "f 2/1 3/1 4/1\nl 1 2\n");
+  const RunResult r = runSodt({"stats", obj}, dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(jsonNumber(r.out, "vertices"), 4);
+  EXPECT_EQ(jsonNumber(r.out, "faces"), 4);
+  EXPECT_NE(r.out.find("\"closed\": true"), std::string::npos) << r.out;
+  EXPECT_NEAR(jsonNumber(r.out, "volume"), 1.0 / 6, 1e-15);
 }
 
 TEST_F(CliTest, CorruptPlyFails) {
@@ -1572,6 +1581,18 @@ TEST(CliSizes, EveryCommandRefusesSizesOutsideTheVerifiedRange) {
 // ---------------------------------------------------------------------------
 // Messages that name what is wrong and where
 
+/// Runs `sodt stats` on a file with the given content and expects exit 1 with
+/// one stderr line containing every part.
+void expectStatsFails(const TempDir& dir, const std::string& name, const std::string& content,
+                      const std::vector<std::string>& parts) {
+  SCOPED_TRACE(name);
+  writeFile(dir / name, content);
+  const RunResult r = runSodt({"stats", dir / name}, dir);
+  EXPECT_EQ(r.exitCode, 1) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  for (const std::string& part : parts) EXPECT_NE(r.err.find(part), std::string::npos) << r.err;
+}
+
 TEST(CliMessages, EachNamesTheProblemAndWhereItIs) {
   TempDir dir;
   const std::string tetV = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n", tetF = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
@@ -1610,14 +1631,7 @@ TEST(CliMessages, EachNamesTheProblemAndWhereItIs) {
       {"nul.off", std::string("OFF\n4 4 0\n0 0 0\n1 0\0 0\n", 21) + "0 1 0\n0 0 1\n" + tetF,
        {"line 4: vertex 1: expected a number, got '0\\x00'"}},
   };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(std::get<0>(c));
-    writeFile(dir / std::get<0>(c), std::get<1>(c));
-    const RunResult r = runSodt({"stats", dir / std::get<0>(c)}, dir);
-    EXPECT_EQ(r.exitCode, 1) << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    for (const std::string& part : std::get<2>(c)) EXPECT_NE(r.err.find(part), std::string::npos) << r.err;
-  }
+  for (const auto& c : cases) expectStatsFails(dir, std::get<0>(c), std::get<1>(c), std::get<2>(c));
   // Line ends of every kind: "\r\n" and a lone '\r' (old Mac files) read as '\n'.
   for (const std::string eol : {"\r\n", "\r"}) {
     std::string off = "OFF\n4 4 0\n" + tetV + tetF;
@@ -1669,6 +1683,131 @@ TEST(CliWinding, VerticesLeftFixedByNonManifoldFacesAreWarnedAbout) {
   EXPECT_NE(r.err.find("vertices stayed fixed"), std::string::npos) << r.err;
   const RunResult quiet = runSodt({"smooth", dir / "fin.off", dir / "out.ply", "--quiet"}, dir);
   EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+}
+
+// ---------------------------------------------------------------------------
+// OBJ and STL
+
+TEST(CliFormats, ObjAndStlRoundTrips) {
+  TempDir dir;
+  const SimpleMesh sphere = jitteredSphere(3, 0.4, 9);
+  writeFile(dir / "in.off", toOff(sphere));
+  // OBJ keeps every vertex, in order, exactly; STL keeps the faces, their
+  // corners welded back into the same vertices, in single precision.
+  for (const char* ext : {".obj", ".stl"}) {
+    SCOPED_TRACE(ext);
+    const std::string out = dir / (std::string("out") + ext);
+    const RunResult r = runSodt({"smooth", dir / "in.off", out, "--iterations", "3", "--quiet"}, dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const RunResult ply = runSodt({"smooth", dir / "in.off", dir / "ref.ply", "--iterations", "3", "--quiet"}, dir);
+    ASSERT_EQ(ply.exitCode, 0) << ply.err;
+    sodt::MeshD a, b;
+    sodt::LoadInfo info;
+    sodt::loadMesh(out, a, &info);
+    sodt::loadMesh(dir / "ref.ply", b);
+    ASSERT_EQ(a.fn, b.fn);
+    ASSERT_EQ(a.vn, b.vn);
+    if (std::string(ext) == ".obj") {
+      for (int i = 0; i < a.vn; ++i) ASSERT_EQ(a.vert[i].P(), b.vert[i].P()) << "vertex " << i;
+      EXPECT_EQ(info.weldedCorners, 0);
+    } else {
+      EXPECT_EQ(info.weldedCorners, 3LL * a.fn - a.vn);
+      // Welded corners in order of first use: map them by face.
+      for (int f = 0; f < a.fn; ++f)
+        for (int k = 0; k < 3; ++k) {
+          const auto& p = a.face[f].cV(k)->cP();
+          const auto& q = b.face[f].cV(k)->cP();
+          for (int c = 0; c < 3; ++c) ASSERT_EQ(p[c], double(float(q[c]))) << "face " << f;
+        }
+    }
+    // A file the tool wrote reads back as a closed mesh of the same volume.
+    const RunResult st = runSodt({"stats", out}, dir);
+    EXPECT_NE(st.out.find("\"closed\": true"), std::string::npos) << st.out;
+  }
+}
+
+TEST(CliFormats, StlBinaryAndAsciiReadAlikeAndWeld) {
+  TempDir dir;
+  // A unit tetrahedron as 4 separate triangles (12 corners, 4 vertices).
+  const double v[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  std::string ascii = "solid tet made by hand\n";
+  std::string bin(80, ' ');
+  bin.replace(0, 5, "solid");  // binary files may start with "solid" too
+  bin += std::string("\x04\x00\x00\x00", 4);
+  for (const auto& t : f) {
+    ascii += "  facet normal 0 0 0\n    outer loop\n";
+    float rec[12] = {0};
+    for (int k = 0; k < 3; ++k) {
+      char line[96];
+      std::snprintf(line, sizeof line, "      vertex %g %g %g\n", v[t[k]][0], v[t[k]][1], v[t[k]][2]);
+      ascii += line;
+      for (int c = 0; c < 3; ++c) rec[3 + 3 * k + c] = static_cast<float>(v[t[k]][c]);
+    }
+    ascii += "    endloop\n  endfacet\n";
+    bin.append(reinterpret_cast<const char*>(rec), sizeof rec);
+    bin += std::string(2, '\0');
+  }
+  ascii += "endsolid tet made by hand\n";
+  writeFile(dir / "a.stl", ascii);
+  writeFile(dir / "b.STL", bin);
+  for (const char* name : {"a.stl", "b.STL"}) {
+    SCOPED_TRACE(name);
+    sodt::MeshD m;
+    sodt::LoadInfo info;
+    sodt::loadMesh(dir / name, m, &info);
+    EXPECT_EQ(m.vn, 4);
+    EXPECT_EQ(m.fn, 4);
+    EXPECT_EQ(info.weldedCorners, 8);
+    const RunResult st = runSodt({"stats", dir / name}, dir);
+    EXPECT_NEAR(jsonNumber(st.out, "volume"), 1.0 / 6, 1e-15) << st.out;
+    EXPECT_NE(st.out.find("\"closed\": true"), std::string::npos) << st.out;
+  }
+  // -0 and 0 are the same corner.
+  std::string negZero = ascii;
+  negZero.replace(negZero.find("vertex 0 0 0"), 12, "vertex -0 0 -0");
+  writeFile(dir / "z.stl", negZero);
+  sodt::MeshD z;
+  sodt::loadMesh(dir / "z.stl", z);
+  EXPECT_EQ(z.vn, 4);
+}
+
+TEST(CliFormats, MalformedObjAndStlFailWithOneLine) {
+  TempDir dir;
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases{
+      {"short_vertex.obj", "v 0 0\nf 1 1 1\n", "line 1: a vertex needs 3 coordinates"},
+      {"bad_number.obj", "v 0 0 x\n", "line 1: vertex 0: expected a number, got 'x'"},
+      {"two_corners.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", "line 3: a face needs 3 corners or more"},
+      {"index_zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "expected a vertex index, got '0'"},
+      {"index_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "refers to vertex 9, but the file has 3"},
+      {"relative_range.obj", "v 0 0 0\nf -1 -2 -3\n", "reaches before the first vertex"},
+      {"nul.obj", std::string("v 0 0 \0\n", 8), "expected a number, got '\\x00'"},
+      {"no_solid.stl", "facet normal 0 0 1\n", "not an STL file"},
+      {"short_binary.stl", std::string(80, 'x') + std::string("\x05\x00\x00\x00", 4) + std::string(60, '\0'),
+       "as binary STL its size should be 84 + 50 x 5 = 334 bytes (it is 144)"},
+      {"bad_vertex.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 blah\n",
+       "line 4: expected a number in a vertex, got 'blah'"},
+      {"two_vertex_facet.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n"
+                               "endfacet\nendsolid\n",
+       "a facet with 2 vertices"},
+      {"no_endsolid.stl", "solid s\n", "the file ends without 'endsolid'"},
+  };
+  for (const auto& c : cases) expectStatsFails(dir, std::get<0>(c), std::get<1>(c), {std::get<2>(c)});
+}
+
+TEST(CliFormats, BundledStlAndObjSmooth) {
+  TempDir dir;
+  for (const char* name : {"cube_jitter.stl", "torus.obj"}) {
+    SCOPED_TRACE(name);
+    const std::string in = std::string(SODT_MESH_DIR) + "/" + name;
+    const RunResult r = runSodt({"smooth", in, dir / "out.ply", "--report", dir / "r.json",
+                                 "--algorithm", std::string(name) == "torus.obj" ? "basic" : "feature"}, dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string json = readFile(dir / "r.json");
+    EXPECT_GT(jsonNumber(json, "min_angle_after"), jsonNumber(json, "min_angle_before"));
+    EXPECT_EQ(jsonNumber(json, "fixed_nonmanifold"), 0);
+    EXPECT_EQ(jsonNumber(json, "fixed_boundary"), 0);
+  }
 }
 
 }  // namespace

@@ -354,7 +354,7 @@ std::vector<BadFile> badFiles() {
                 kTetVerts + "4 0 1 2 3\n";
        },
        "'tristrips' elements are not supported"},
-      {"unsupported.obj", [] { return std::string("v 0 0 0\n"); }, "OBJ is not supported"},
+      {"unsupported.stp", [] { return std::string("ISO-10303-21;\n"); }, "unsupported file extension '.stp'"},
   };
 }
 

@@ -15,6 +15,7 @@
 #include <cerrno>
 #include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -28,6 +29,7 @@
 #include <memory>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <unordered_map>
 #include <vector>
 
 namespace sodt {
@@ -409,25 +411,248 @@ void readOff(const std::string& path, OffData& d) {
   }
 }
 
+/// Positions and triangles of an OBJ or STL file.
+struct PlainMesh {
+  std::vector<double> xyz;
+  std::vector<int> tri;
+  bool polygons = false;
+  long long corners = 0;  ///< STL: face corners read, before welding
+};
+
+/// Puts positions (3 per vertex) and triangles (3 indices each) into m.
+template <class M>
+void fillMesh(const std::vector<double>& xyz, const std::vector<int>& tri, M& m) {
+  using Scalar = typename M::ScalarType;
+  const std::size_t nv = xyz.size() / 3, nt = tri.size() / 3;
+  m.Clear();
+  if (nv > 0) vcg::tri::Allocator<M>::AddVertices(m, nv);
+  for (std::size_t i = 0; i < nv; ++i)
+    m.vert[i].P() = typename M::CoordType(Scalar(xyz[3 * i]), Scalar(xyz[3 * i + 1]), Scalar(xyz[3 * i + 2]));
+  if (nt > 0) vcg::tri::Allocator<M>::AddFaces(m, nt);
+  for (std::size_t f = 0; f < nt; ++f)
+    for (int k = 0; k < 3; ++k) m.face[f].V(k) = &m.vert[static_cast<std::size_t>(tri[3 * f + k])];
+}
+
 template <class M>
 void loadOff(const std::string& path, M& m, LoadInfo& info) {
   OffData d;
   readOff(path, d);
-  using Scalar = typename M::ScalarType;
-  const std::size_t nv = d.xyz.size() / 3, nt = d.tri.size() / 3;
-  m.Clear();
-  if (nv > 0) vcg::tri::Allocator<M>::AddVertices(m, nv);
-  for (std::size_t i = 0; i < nv; ++i)
-    m.vert[i].P() = typename M::CoordType(Scalar(d.xyz[3 * i]), Scalar(d.xyz[3 * i + 1]), Scalar(d.xyz[3 * i + 2]));
-  if (nt > 0) vcg::tri::Allocator<M>::AddFaces(m, nt);
-  for (std::size_t f = 0; f < nt; ++f)
-    for (int k = 0; k < 3; ++k) m.face[f].V(k) = &m.vert[static_cast<std::size_t>(d.tri[3 * f + k])];
+  fillMesh(d.xyz, d.tri, m);
   if (d.hasColor) {
-    for (std::size_t i = 0; i < nv; ++i)
+    for (std::size_t i = 0; i < m.vert.size(); ++i)
       m.vert[i].C() = vcg::Color4b(d.rgba[4 * i], d.rgba[4 * i + 1], d.rgba[4 * i + 2], d.rgba[4 * i + 3]);
     info.vertexColor = true;
   }
   info.polygons = d.polygons;
+}
+
+// ---------------------------------------------------------------------------
+// OBJ reading
+
+/// Reads the vertices ('v') and faces ('f', as i, i/t, i//n or i/t/n, with
+/// negative indices counting back from the last vertex so far) of a
+/// Wavefront OBJ file; polygons are fan-triangulated; comments, line
+/// continuations and every other statement (texture coordinates, normals,
+/// groups, materials, lines...) are accepted and ignored.
+void readObj(const std::string& path, PlainMesh& d) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInput("cannot open " + quoted(path) + ": " + std::strerror(errno));
+  TextScanner t(in, true);
+  auto fail = [&](const std::string& what) {
+    throw InvalidInput(quoted(path) + ": OBJ parse error at line " + std::to_string(t.line()) + ": " + what);
+  };
+  std::vector<long long> poly;
+  std::vector<std::string> rest;
+  std::string word;
+  while (t.next(word)) {
+    const long line = t.line();
+    rest = t.restOfLine();
+    // A '\' at the end of a line continues the statement on the next one.
+    while (!rest.empty() && rest.back() == "\\") {
+      rest.pop_back();
+      const std::vector<std::string> more = t.restOfLine();
+      rest.insert(rest.end(), more.begin(), more.end());
+    }
+    if (word == "v") {
+      if (rest.size() < 3) fail("a vertex needs 3 coordinates, line " + std::to_string(line) + " has " +
+                                std::to_string(rest.size()));
+      for (int k = 0; k < 3; ++k) {
+        double x = 0;
+        if (!parseDouble(rest[static_cast<std::size_t>(k)], x))
+          fail("vertex " + std::to_string(d.xyz.size() / 3) + ": expected a number, got " +
+               shown(rest[static_cast<std::size_t>(k)]));
+        d.xyz.push_back(x);
+      }
+    } else if (word == "f") {
+      if (rest.size() < 3) fail("a face needs 3 corners or more, got " + std::to_string(rest.size()));
+      const long long nv = static_cast<long long>(d.xyz.size() / 3);
+      poly.clear();
+      for (const std::string& c : rest) {
+        const std::string idx = c.substr(0, c.find('/'));
+        long long v = 0;
+        if (!parseLong(idx, v) || v == 0) fail("expected a vertex index, got " + shown(c));
+        // Negative: relative to the vertices so far; positive: 1-based,
+        // checked once the whole file is read (forward references).
+        if (v < 0) {
+          v += nv;
+          if (v < 0) fail("vertex index " + c + " reaches before the first vertex");
+        } else {
+          --v;
+          if (v > INT_MAX) fail("vertex index " + c + " is out of range");
+        }
+        poly.push_back(v);
+      }
+      if (poly.size() > 3) d.polygons = true;
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+        d.tri.push_back(static_cast<int>(poly[0]));
+        d.tri.push_back(static_cast<int>(poly[k]));
+        d.tri.push_back(static_cast<int>(poly[k + 1]));
+      }
+    }
+  }
+  const long long nv = static_cast<long long>(d.xyz.size() / 3);
+  for (std::size_t k = 0; k < d.tri.size(); ++k)
+    if (d.tri[k] >= nv)
+      throw InvalidInput(quoted(path) + ": OBJ face " + std::to_string(k / 3) + " refers to vertex " +
+                         std::to_string(d.tri[k] + 1) + ", but the file has " + std::to_string(nv) + " vertices");
+}
+
+// ---------------------------------------------------------------------------
+// STL reading
+
+/// Welds the corners of STL triangles: corners with equal coordinates
+/// (bit for bit, -0 as 0) become one vertex, as a user expects of a mesh.
+class CornerWelder {
+ public:
+  int add(double x, double y, double z, PlainMesh& d) {
+    const Key k{x == 0 ? 0.0 : x, y == 0 ? 0.0 : y, z == 0 ? 0.0 : z};
+    const auto it = index_.emplace(k, static_cast<int>(d.xyz.size() / 3));
+    if (it.second) d.xyz.insert(d.xyz.end(), {k.x, k.y, k.z});
+    return it.first->second;
+  }
+
+ private:
+  struct Key {
+    double x, y, z;
+    bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  };
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      std::uint64_t h = 1469598103934665603ull;
+      for (double v : {k.x, k.y, k.z}) {
+        std::uint64_t b;
+        std::memcpy(&b, &v, sizeof b);
+        h = (h ^ b) * 1099511628211ull;
+        h ^= h >> 29;
+      }
+      return static_cast<std::size_t>(h);
+    }
+  };
+  std::unordered_map<Key, int, Hash> index_;
+};
+
+/// Reads a binary or ASCII STL file, its corners welded (CornerWelder). A
+/// file is binary when its size is 84 bytes plus 50 per triangle of the
+/// count at byte 80; else it must be ASCII ("solid ... endsolid", several
+/// solids allowed; a facet may have more than 3 vertices, fan-triangulated).
+void readStl(const std::string& path, PlainMesh& d) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInput("cannot open " + quoted(path) + ": " + std::strerror(errno));
+  const long long size = fileSize(path);
+  CornerWelder weld;
+  unsigned char head[84] = {0};
+  in.read(reinterpret_cast<char*>(head), 84);
+  const long long got = in.gcount();
+  const std::uint32_t count = static_cast<std::uint32_t>(head[80]) | static_cast<std::uint32_t>(head[81]) << 8 |
+                              static_cast<std::uint32_t>(head[82]) << 16 | static_cast<std::uint32_t>(head[83]) << 24;
+  if (got == 84 && size == 84 + 50 * static_cast<long long>(count)) {
+    std::vector<char> rec(50 * 4096);
+    for (std::uint32_t done = 0; done < count;) {
+      const std::uint32_t n = std::min<std::uint32_t>(count - done, 4096);
+      in.read(rec.data(), 50 * static_cast<std::streamsize>(n));
+      if (in.gcount() != 50 * static_cast<std::streamsize>(n))
+        throw InvalidInput(quoted(path) + ": binary STL ends inside triangle " + std::to_string(done));
+      for (std::uint32_t k = 0; k < n; ++k) {
+        float c[9];
+        std::memcpy(c, rec.data() + 50 * k + 12, sizeof c);  // after the normal; little-endian floats
+        for (int j = 0; j < 3; ++j) d.tri.push_back(weld.add(c[3 * j], c[3 * j + 1], c[3 * j + 2], d));
+      }
+      done += n;
+    }
+    d.corners = 3 * static_cast<long long>(count);
+    return;
+  }
+  in.clear();
+  in.seekg(0);
+  TextScanner t(in, false);
+  auto fail = [&](const std::string& what) {
+    throw InvalidInput(quoted(path) + ": STL parse error at line " + std::to_string(t.line()) + ": " + what);
+  };
+  std::string w;
+  if (!t.next(w) || w != "solid") {
+    if (got == 84)
+      throw InvalidInput(quoted(path) + ": not an STL file: as binary STL its size should be 84 + 50 x " +
+                         std::to_string(count) + " = " + std::to_string(84 + 50 * static_cast<long long>(count)) +
+                         " bytes (it is " + std::to_string(size) + "), and it does not start with 'solid'");
+    throw InvalidInput(quoted(path) + ": not an STL file (no 'solid' keyword, too short for binary STL)");
+  }
+  auto expect = [&](const char* word) {
+    if (!t.next(w)) fail(std::string("the file ends where '") + word + "' was expected");
+    if (w != word) fail(std::string("expected '") + word + "', got " + shown(w));
+  };
+  auto number = [&](const char* what) {
+    if (!t.next(w)) fail(std::string("the file ends inside a ") + what);
+    double x = 0;
+    if (!parseDouble(w, x)) fail(std::string("expected a number in a ") + what + ", got " + shown(w));
+    return x;
+  };
+  t.restOfLine();  // the solid's name
+  std::vector<int> poly;
+  for (;;) {
+    if (!t.next(w)) fail("the file ends without 'endsolid'");
+    if (w == "endsolid") {
+      t.restOfLine();
+      if (!t.next(w)) break;  // the end
+      if (w != "solid") fail("expected 'solid' or the end of the file after 'endsolid', got " + shown(w));
+      t.restOfLine();
+      continue;
+    }
+    if (w != "facet") fail("expected 'facet' or 'endsolid', got " + shown(w));
+    expect("normal");
+    for (int k = 0; k < 3; ++k) number("facet normal");
+    expect("outer");
+    expect("loop");
+    poly.clear();
+    for (;;) {
+      if (!t.next(w)) fail("the file ends inside a facet");
+      if (w == "endloop") break;
+      if (w != "vertex") fail("expected 'vertex' or 'endloop', got " + shown(w));
+      const double x = number("vertex"), y = number("vertex"), z = number("vertex");
+      poly.push_back(weld.add(x, y, z, d));
+    }
+    expect("endfacet");
+    if (poly.size() < 3) fail("a facet with " + std::to_string(poly.size()) + " vertices");
+    if (poly.size() > 3) d.polygons = true;
+    d.corners += static_cast<long long>(poly.size());
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k) d.tri.insert(d.tri.end(), {poly[0], poly[k], poly[k + 1]});
+  }
+}
+
+template <class M>
+void loadObj(const std::string& path, M& m, LoadInfo& info) {
+  PlainMesh d;
+  readObj(path, d);
+  fillMesh(d.xyz, d.tri, m);
+  info.polygons = d.polygons;
+}
+
+template <class M>
+void loadStl(const std::string& path, M& m, LoadInfo& info) {
+  PlainMesh d;
+  readStl(path, d);
+  fillMesh(d.xyz, d.tri, m);
+  info.polygons = d.polygons;
+  info.weldedCorners = d.corners - static_cast<long long>(d.xyz.size() / 3);
 }
 
 // ---------------------------------------------------------------------------
@@ -1000,10 +1225,12 @@ void loadMeshImpl(const std::string& path, M& m, LoadInfo* infoOut) {
   const MeshFormat fmt = meshFormatFromPath(path);
   checkReadable(path);
   try {
-    if (fmt == MeshFormat::Ply)
-      loadPly(path, m, info);
-    else
-      loadOff(path, m, info);
+    switch (fmt) {
+      case MeshFormat::Ply: loadPly(path, m, info); break;
+      case MeshFormat::Off: loadOff(path, m, info); break;
+      case MeshFormat::Obj: loadObj(path, m, info); break;
+      case MeshFormat::Stl: loadStl(path, m, info); break;
+    }
   } catch (const InvalidInput&) {
     m.Clear();
     throw;
@@ -1084,6 +1311,61 @@ void compactCopy(const M& src, M& dst, bool selectionOnly) {
   }
 }
 
+/// Writes a compact mesh (no deleted element) as OBJ (ASCII: every vertex,
+/// in order, with as many digits as its scalar type needs to read back
+/// exactly, and 1-based triangles) or binary STL (single precision, as the
+/// format is: per triangle a unit normal and three corners; no vertex list,
+/// so unreferenced vertices are not kept).
+template <class M>
+void writePlain(const std::string& target, const std::string& file, const M& m, MeshFormat fmt) {
+  FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f) throw IoError(quoted(target) + ": cannot write: " + std::strerror(errno));
+  std::vector<char> buf(1 << 20);
+  std::setvbuf(f, buf.data(), _IOFBF, buf.size());
+  bool ok = true;
+  if (fmt == MeshFormat::Obj) {
+    const int digits = sizeof(typename M::ScalarType) == 4 ? 9 : 17;
+    ok = std::fprintf(f, "# written by sodt: %d vertices, %d triangles\n", m.vn, m.fn) > 0;
+    for (std::size_t i = 0; ok && i < m.vert.size(); ++i) {
+      const auto& p = m.vert[i].cP();
+      ok = std::fprintf(f, "v %.*g %.*g %.*g\n", digits, double(p[0]), digits, double(p[1]), digits,
+                        double(p[2])) > 0;
+    }
+    for (std::size_t k = 0; ok && k < m.face.size(); ++k) {
+      const auto& F = m.face[k];
+      ok = std::fprintf(f, "f %d %d %d\n", int(F.cV(0) - &m.vert[0]) + 1, int(F.cV(1) - &m.vert[0]) + 1,
+                        int(F.cV(2) - &m.vert[0]) + 1) > 0;
+    }
+  } else {
+    char head[80] = {0};
+    std::snprintf(head, sizeof head, "binary STL written by sodt");
+    const std::uint32_t n = static_cast<std::uint32_t>(m.face.size());
+    unsigned char count[4] = {static_cast<unsigned char>(n), static_cast<unsigned char>(n >> 8),
+                              static_cast<unsigned char>(n >> 16), static_cast<unsigned char>(n >> 24)};
+    ok = std::fwrite(head, 1, 80, f) == 80 && std::fwrite(count, 1, 4, f) == 4;
+    for (std::size_t k = 0; ok && k < m.face.size(); ++k) {
+      const auto& F = m.face[k];
+      using P3 = vcg::Point3d;
+      const P3 a = P3::Construct(F.cV(0)->cP()), b = P3::Construct(F.cV(1)->cP()),
+                 c = P3::Construct(F.cV(2)->cP());
+      P3 nrm = (b - a) ^ (c - a);
+      const double len = nrm.Norm();
+      nrm = len > 0 ? nrm / len : P3(0, 0, 0);
+      float rec[12];
+      for (int j = 0; j < 3; ++j) {
+        rec[j] = static_cast<float>(nrm[j]);
+        rec[3 + j] = static_cast<float>(a[j]);
+        rec[6 + j] = static_cast<float>(b[j]);
+        rec[9 + j] = static_cast<float>(c[j]);
+      }
+      const unsigned char attr[2] = {0, 0};
+      ok = std::fwrite(rec, sizeof rec, 1, f) == 1 && std::fwrite(attr, 1, 2, f) == 2;  // little-endian host
+    }
+  }
+  if (std::fclose(f) != 0) ok = false;
+  if (!ok) throw IoError(quoted(target) + ": cannot write: " + std::strerror(errno));
+}
+
 template <class M>
 void writeMesh(const std::string& target, const std::string& file, const M& src, const SaveOptions& opt) {
   const MeshFormat fmt = meshFormatFromPath(target);
@@ -1104,6 +1386,10 @@ void writeMesh(const std::string& target, const std::string& file, const M& src,
   if (!compact || selection) {
     compactCopy(src, copy, selection);
     w = &copy;
+  }
+  if (fmt == MeshFormat::Obj || fmt == MeshFormat::Stl) {
+    writePlain(target, file, *w, fmt);
+    return;
   }
   namespace io = vcg::tri::io;
   int mask = io::Mask::IOM_VERTCOORD | io::Mask::IOM_FACEINDEX;
@@ -1162,14 +1448,17 @@ void verifyWritten(const std::string& target, const std::string& file, const M& 
   VerifyMesh back;
   LoadInfo info;
   try {
-    if (fmt == MeshFormat::Ply)
-      loadPly(file, back, info);
-    else
-      loadOff(file, back, info);
+    switch (fmt) {
+      case MeshFormat::Ply: loadPly(file, back, info); break;
+      case MeshFormat::Off: loadOff(file, back, info); break;
+      case MeshFormat::Obj: loadObj(file, back, info); break;
+      case MeshFormat::Stl: loadStl(file, back, info); break;
+    }
   } catch (const std::exception& e) {
     throw IoError(quoted(target) + ": the written file does not read back (" + e.what() + ")");
   }
-  if (back.vn != src.vn || back.fn != src.fn)
+  // STL keeps no vertex list: its vertices are the welded corners.
+  if (fmt == MeshFormat::Stl ? back.fn != src.fn : (back.vn != src.vn || back.fn != src.fn))
     throw IoError(quoted(target) + ": the written file does not read back (" + std::to_string(back.vn) +
                   " vertices, " + std::to_string(back.fn) + " faces instead of " + std::to_string(src.vn) +
                   ", " + std::to_string(src.fn) + ")");
@@ -1200,9 +1489,10 @@ MeshFormat meshFormatFromPath(const std::string& path) {
   const std::string ext = lowerExtension(path);
   if (ext == ".ply") return MeshFormat::Ply;
   if (ext == ".off") return MeshFormat::Off;
-  if (ext == ".obj") throw InvalidInput(quoted(path) + ": OBJ is not supported; convert to PLY or OFF");
-  if (ext.empty()) throw InvalidInput(quoted(path) + ": no file extension (expected .ply or .off)");
-  throw InvalidInput(quoted(path) + ": unsupported file extension '" + ext + "' (expected .ply or .off)");
+  if (ext == ".obj") return MeshFormat::Obj;
+  if (ext == ".stl") return MeshFormat::Stl;
+  if (ext.empty()) throw InvalidInput(quoted(path) + ": no file extension (expected .ply, .off, .obj or .stl)");
+  throw InvalidInput(quoted(path) + ": unsupported file extension '" + ext + "' (expected .ply, .off, .obj or .stl)");
 }
 
 void loadMesh(const std::string& path, MeshD& m, LoadInfo* info) { loadMeshImpl(path, m, info); }

@@ -19,11 +19,10 @@ class IoError : public std::runtime_error {
 };
 
 /// Mesh file formats the project reads and writes.
-enum class MeshFormat { Ply, Off };
+enum class MeshFormat { Ply, Off, Obj, Stl };
 
-/// Format of a path from its extension, case-insensitive (.ply, .off).
-/// \throw InvalidInput naming the path for any other extension; .obj gets
-///        "OBJ is not supported; convert to PLY or OFF".
+/// Format of a path from its extension, case-insensitive (.ply, .off, .obj, .stl).
+/// \throw InvalidInput naming the path for any other extension.
 MeshFormat meshFormatFromPath(const std::string& path);
 
 /// What saveMesh writes besides positions and triangles.
@@ -42,9 +41,11 @@ struct LoadInfo {
   bool vertexSelection = false;  ///< the file has per-vertex flags (PLY "flags")
   long long selectedVertices = 0;  ///< vertices whose selection bit is set
   bool polygons = false;         ///< faces with more than three corners were fan-triangulated
+  long long weldedCorners = 0;   ///< STL: corners merged into a vertex with the same coordinates
 };
 
-/// Reads a triangle mesh from a .ply or .off file into m (m is cleared first).
+/// Reads a triangle mesh from a .ply, .off, .obj or .stl file into m (m is
+/// cleared first).
 ///
 /// PLY is read with vcglib's importer; polygons are fan-triangulated. Per-vertex
 /// quality and colour are read when present; of a PLY "flags" property only
@@ -53,12 +54,15 @@ struct LoadInfo {
 /// parser of this file (vcglib 2020.09's OFF importer does not range-check
 /// face indices); N/C/ST prefixes are accepted, COFF vertex colours (3 or 4
 /// values, 0..255 or 0..1) are read, normals, texture coordinates and face
-/// colours are skipped, polygons are fan-triangulated. A file with vertices
+/// colours are skipped, polygons are fan-triangulated. OBJ: 'v' and 'f'
+/// statements (i, i/t, i//n, i/t/n corners, negative indices, polygons), all
+/// else ignored. STL: binary or ASCII; corners with equal coordinates are
+/// welded into one vertex (LoadInfo::weldedCorners). A file with vertices
 /// but no faces loads fine (callers decide whether that is an error). On
 /// return the mesh is compact, its bounding box and normals are up to date.
 ///
 /// \throw InvalidInput with a one-line message naming the file: missing or
-///        unreadable file, unsupported extension (OBJ included), parse error
+///        unreadable file, unsupported extension, parse error
 ///        (with vcglib's error string for PLY), a face index out of range, or
 ///        a non-finite coordinate (naming the vertex index).
 /// \param info when not null, receives what the file carried besides geometry.
@@ -105,7 +109,9 @@ class PendingFile {
 };
 
 /// Writes m into out.tempPath() in the format of out.target()'s extension,
-/// without committing. Deleted elements are skipped.
+/// without committing. Deleted elements are skipped. OBJ and STL carry
+/// positions and triangles only; STL is binary, single precision, and has no
+/// vertex list (unreferenced vertices are not kept).
 /// \throw InvalidInput for an unsupported extension, IoError if writing fails.
 void saveMesh(PendingFile& out, const MeshD& m, const SaveOptions& opt = SaveOptions());
 /// Single-precision overload of saveMesh(PendingFile&, const MeshD&, const SaveOptions&).
