@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -229,4 +230,112 @@ TEST(DeviationGuard, FirstSweepStartsFromTheInputMargin) {
     std::printf("%s: first sweep, %lld of %lld checked points answered from margins\n", what.c_str(),
                 a.deviationReused, b.deviationQueries);
   }
+}
+
+namespace {
+
+/// The faces of v's patch, sorted, each once.
+std::vector<int> patchOf(const sodt::InputSurface& in, int v) {
+  std::vector<int> faces;
+  in.forEachPatchFace(v, [&](int f) {
+    faces.push_back(f);
+    return false;
+  });
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+/// The faces of v's one-ring and of its interior neighbours' one-rings.
+std::vector<int> twoRingOf(const sodt::RingTopology& T, int v) {
+  std::vector<int> faces;
+  for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k) {
+    faces.push_back(T.ringFace[k]);
+    const int u = T.ringIdx[k];
+    if (T.kind[u] != sodt::VertexKind::Interior) continue;
+    for (int j = T.ringBegin[u]; j < T.ringBegin[u + 1]; ++j) faces.push_back(T.ringFace[j]);
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+}  // namespace
+
+/// Where no star has more than kPatchWindow faces, a vertex's patch is its
+/// input two-ring, as it always was.
+TEST(DeviationGuard, PatchIsTheTwoRingAroundOrdinaryStars) {
+  for (const char* name : {"blobs_mc.ply", "torus.off", "cube_jitter.ply"}) {
+    sodt::MeshD m;
+    sodt::loadMesh(std::string(SODT_MESH_DIR) + "/" + name, m);
+    const sodt::FaceList faces = sodt::makeFaceList(m);
+    const sodt::RingTopology topo = sodt::buildRingTopology(m);
+    std::vector<Vec3> pos;
+    for (const auto& v : m.vert) pos.push_back(v.cP());
+    sodt::InputSurface in;
+    in.faces = &faces;
+    in.topo = &topo;
+    in.pos = &pos;
+    in.prepare(0.01);
+    int interior = 0;
+    for (int v = 0; v < static_cast<int>(m.vert.size()); ++v) {
+      ASSERT_LE(topo.ringSize(v), int{sodt::InputSurface::kPatchWindow}) << name;
+      if (topo.kind[v] != sodt::VertexKind::Interior) continue;
+      ++interior;
+      ASSERT_EQ(patchOf(in, v), twoRingOf(topo, v)) << name << " vertex " << v;
+    }
+    EXPECT_GT(interior, 100) << name;
+  }
+}
+
+/// Next to a vertex of valence N the patch takes kPatchWindow faces of its
+/// star, those on either side of the edge, so that a sweep costs time linear
+/// in the faces: a rim vertex of a closed double fan searches
+/// 2 kPatchWindow faces, not 2 N + 2. The apexes' patches are their own
+/// stars and the rim faces next to them.
+TEST(DeviationGuard, PatchNextToAHighValenceVertexIsAWindow) {
+  const int n = 1000;
+  std::vector<vcg::Point3d> ring;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * sodt::kPi * k / n;
+    ring.emplace_back(std::cos(t), std::sin(t), 0);
+  }
+  sodt::MeshD m;
+  sodt_test::makeBipyramid(m, ring, vcg::Point3d(0, 0, 1));
+  const sodt::FaceList faces = sodt::makeFaceList(m);
+  const sodt::RingTopology topo = sodt::buildRingTopology(m);
+  std::vector<Vec3> pos;
+  for (const auto& v : m.vert) pos.push_back(v.cP());
+  sodt::InputSurface in;
+  in.faces = &faces;
+  in.topo = &topo;
+  in.pos = &pos;
+  in.prepare(0.01);
+  const int w = sodt::InputSurface::kPatchWindow;
+  for (int v = 2; v < n + 2; ++v) {
+    ASSERT_EQ(topo.kind[v], sodt::VertexKind::Interior);
+    const std::vector<int> patch = patchOf(in, v);
+    ASSERT_EQ(static_cast<int>(patch.size()), 2 * w) << "rim vertex " << v;
+    // The window is centred on v: faces of the top apex's star within w / 2
+    // rim steps of v, and v's own faces.
+    for (int f : patch) {
+      const auto& t = faces.tri[f];
+      int apex = -1, lo = -1;  // the apex and the first rim corner in ring order
+      for (int j = 0; j < 3; ++j)
+        if (t[j] < 2) apex = t[j];
+      ASSERT_GE(apex, 0);
+      for (int j = 0; j < 3; ++j)
+        if (t[j] >= 2 && (t[(j + 1) % 3] >= 2) && apex == 0) lo = t[j] - 2;
+      if (apex == 0) {
+        const int steps = ((lo - (v - 2)) % n + n) % n;
+        EXPECT_TRUE(steps < w / 2 || steps >= n - w / 2) << "rim vertex " << v << ", face " << f;
+      }
+    }
+  }
+  for (int apex : {0, 1}) EXPECT_EQ(static_cast<int>(patchOf(in, apex).size()), 2 * n) << "apex " << apex;
+  // A point over the far side of the top cone is near the input surface but
+  // not near a rim vertex's patch; it is near the apex's.
+  const Vec3 far = (pos[0] + pos[2 + n / 2] + pos[2 + n / 2 + 1]) / 3.0;
+  EXPECT_LT(in.nearFaceOf(2, far, -1), 0);
+  EXPECT_GE(in.nearFaceOf(0, far, -1), 0);
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The deviation guard: a moved vertex and the faces around it must stay close
-// to the input surface near that vertex (its input one- and two-ring faces).
+// to the input surface near that vertex (its input one-ring faces and the
+// faces of its neighbours' one-rings that lie around it).
 #pragma once
 
 #include "geometry.h"
@@ -16,8 +17,20 @@ namespace sodt {
 
 /// The input mesh, read by index: the faces of vertex v's input one-ring and
 /// of its neighbours' one-rings form the surface patch v must stay near.
-/// Nothing is copied per visit; the structures must outlive this view.
+/// From a neighbour u with more than kPatchWindow faces around it, the patch
+/// takes the kPatchWindow faces of u's star centred on the edge uv (those
+/// beside v around u), not all of them: a vertex next to one of valence
+/// 100000 would otherwise search 100000 faces per rejected point, and a
+/// sweep would cost the square of that valence. A smaller patch only makes
+/// the guard stricter (the distance to fewer faces is never smaller), and
+/// stars of up to kPatchWindow faces, nearly every star of a mesh, are
+/// taken whole. The patch of v then has at most (kPatchWindow + 1) times
+/// v's valence faces. Nothing is copied per visit; the structures must
+/// outlive this view.
 struct InputSurface {
+  /// The most faces of a neighbour's star in a vertex's patch (even).
+  static constexpr int kPatchWindow = 32;
+
   const FaceList* faces = nullptr;
   const RingTopology* topo = nullptr;
   const std::vector<Vec3>* pos = nullptr;
@@ -27,6 +40,11 @@ struct InputSurface {
   /// Per face: an upper bound of the distance from its first corner to its
   /// other two, so that far faces are skipped without the exact distance.
   std::vector<float> reach;
+
+  /// Per ring entry k of an interior vertex v (see RingTopology), the index
+  /// j into the ring of u = ringIdx[k] with ringIdx[j] == v, when u is
+  /// interior and its star has more than kPatchWindow faces; -1 otherwise.
+  std::vector<int> mirror;
 
   /// The margin of every checked point of the input itself (see Margins):
   /// the vertices are corners of their own patches and the centroids and
@@ -56,6 +74,42 @@ struct InputSurface {
       const double r = std::sqrt(std::max((P[t[1]] - P[t[0]]).SquaredNorm(), (P[t[2]] - P[t[0]]).SquaredNorm()));
       // Rounded up to float, and a little more, so the bound stays an upper bound.
       reach[f] = static_cast<float>(r * (1 + 1e-6)) * (1 + 1e-6f);
+    }
+    setMirror();
+  }
+
+  /// Fills mirror in time linear in the ring entries: the entries pointing
+  /// at a large star are bucketed by that star's centre, whose ring then
+  /// gives each of them its position in one pass.
+  void setMirror() {
+    const RingTopology& T = *topo;
+    mirror.assign(T.ringIdx.size(), -1);
+    if (T.ringBegin.empty()) return;
+    const int nv = static_cast<int>(T.ringBegin.size()) - 1;
+    const auto large = [&](int u) { return T.kind[u] == VertexKind::Interior && T.ringSize(u) > kPatchWindow; };
+    std::vector<int> begin(nv + 1, 0);
+    for (int v = 0; v < nv; ++v) {
+      if (T.kind[v] != VertexKind::Interior) continue;
+      for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k)
+        if (large(T.ringIdx[k])) ++begin[T.ringIdx[k] + 1];
+    }
+    for (int u = 0; u < nv; ++u) begin[u + 1] += begin[u];
+    if (begin[nv] == 0) return;
+    std::vector<int> entry(begin[nv]), next(begin.begin(), begin.end() - 1);
+    for (int v = 0; v < nv; ++v) {
+      if (T.kind[v] != VertexKind::Interior) continue;
+      for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k)
+        if (large(T.ringIdx[k])) entry[next[T.ringIdx[k]]++] = k;
+    }
+    std::vector<int> where(nv, -1);  // per vertex its position in the current star's ring
+    std::vector<int> owner(T.ringIdx.size());  // per ring entry the vertex whose ring holds it
+    for (int v = 0; v < nv; ++v)
+      for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k) owner[k] = v;
+    for (int u = 0; u < nv; ++u) {
+      if (begin[u] == begin[u + 1]) continue;
+      for (int j = T.ringBegin[u + 1] - 1; j >= T.ringBegin[u]; --j) where[T.ringIdx[j]] = j;  // the first of repeats
+      for (int e = begin[u]; e < begin[u + 1]; ++e) mirror[entry[e]] = where[owner[entry[e]]];
+      for (int j = T.ringBegin[u]; j < T.ringBegin[u + 1]; ++j) where[T.ringIdx[j]] = -1;
     }
   }
 
@@ -119,9 +173,12 @@ struct InputSurface {
   /// A face of v's input patch within sqrt(limit2) of q, or -1 when there is
   /// none; *dist as for nearFace. The face hints (-1 for none) are tried
   /// first, both by the cheap test before either by the exact one (an edge
-  /// midpoint is usually over one of the two faces beside its edge); whether
-  /// a face is found does not depend on them, only the time does.
-  int nearFaceOf(int v, const Vec3& q, int hint, int hint2 = -1, double* dist = nullptr) const {
+  /// midpoint is usually over one of the two faces beside its edge), then
+  /// the patch, v's own faces from its star's face start on (a point of
+  /// star triangle k is usually over face k or one beside it, which matters
+  /// around a vertex of high valence); whether a face is found does not
+  /// depend on the hints or start, only the time does.
+  int nearFaceOf(int v, const Vec3& q, int hint, int hint2 = -1, double* dist = nullptr, int start = 0) const {
     if (hint2 == hint) hint2 = -1;
     const Quick r1 = hint >= 0 ? quickTest(hint, q, dist) : Quick::Far;
     if (r1 == Quick::Near) return hint;
@@ -129,22 +186,52 @@ struct InputSurface {
     if (r2 == Quick::Near) return hint2;
     if (r1 == Quick::Unsure && exactTest(hint, q, dist)) return hint;
     if (r2 == Quick::Unsure && exactTest(hint2, q, dist)) return hint2;
+    int found = -1;
+    forEachPatchFace(
+        v,
+        [&](int f) {
+          if (f == hint || f == hint2 || !nearFace(f, q, dist)) return false;
+          found = f;
+          return true;
+        },
+        start);
+    return found;
+  }
+
+  /// Calls visit(f) for each face f of interior vertex v's patch (see
+  /// InputSurface), its own faces first from its star's face start on
+  /// (taken modulo the star's size), until visit returns true; true then. A
+  /// face in two neighbours' windows may be visited twice.
+  template <class Visit>
+  bool forEachPatchFace(int v, Visit&& visit, int start = 0) const {
     const RingTopology& T = *topo;
     const int b = T.ringBegin[v], e = T.ringBegin[v + 1];
-    for (int k = b; k < e; ++k)
-      if (T.ringFace[k] != hint && T.ringFace[k] != hint2 && nearFace(T.ringFace[k], q, dist)) return T.ringFace[k];
+    const int n = e - b;
+    const int s = n > 0 ? (start % n + n) % n : 0;
+    for (int c = 0; c < n; ++c)
+      if (visit(T.ringFace[b + (s + c < n ? s + c : s + c - n)])) return true;
     for (int k = b; k < e; ++k) {
       const int u = T.ringIdx[k];
       if (T.kind[u] != VertexKind::Interior) continue;
-      const int ub = T.ringBegin[u], ue = T.ringBegin[u + 1];
-      for (int j = ub; j < ue; ++j) {
+      const int ub = T.ringBegin[u], n = T.ringBegin[u + 1] - ub;
+      // The whole star, or the window of faces around the edge uv: faces
+      // at - w .. at + w - 1 of u's ring with w = kPatchWindow / 2, where
+      // faces at - 1 and at are the two with v in them.
+      int first = 0, count = n;
+      if (n > kPatchWindow && mirror[k] >= 0) {
+        first = mirror[k] - ub - kPatchWindow / 2;
+        count = kPatchWindow;
+      }
+      for (int c = 0; c < count; ++c) {
+        const int rel = ((first + c) % n + n) % n;
+        const int j = ub + rel;
         // Face j of u's star is (u, ring j, ring j + 1): one with v in it
-        // is one of v's own faces, tested above.
-        if (T.ringIdx[j] == v || T.ringIdx[j + 1 < ue ? j + 1 : ub] == v) continue;
-        if (nearFace(T.ringFace[j], q, dist)) return T.ringFace[j];
+        // is one of v's own faces, visited above.
+        if (T.ringIdx[j] == v || T.ringIdx[rel + 1 < n ? j + 1 : ub] == v) continue;
+        if (visit(T.ringFace[j])) return true;
       }
     }
-    return -1;
+    return false;
   }
 
   /// True when q lies within sqrt(limit2) of a face of v's input patch.
@@ -250,11 +337,12 @@ struct InputSurface {
       }
       queried += 2;
       double dc = 0, dm = 0;
-      const int fc = nearFaceOf(v, (p + st.ring[k] + st.at(k + 1)) / 3.0, hints ? hints[k] : -1, -1, &dc);
+      const int fc =
+          nearFaceOf(v, (p + st.ring[k] + st.at(k + 1)) / 3.0, hints ? hints[k] : -1, -1, &dc, static_cast<int>(k));
       if (fc < 0) return false;
       if (hints) hints[k] = fc;
       const int before = hints ? hints[k == 0 ? n - 1 : k - 1] : -1;
-      if (nearFaceOf(v, (p + st.ring[k]) * 0.5, fc, before, &dm) < 0) return false;
+      if (nearFaceOf(v, (p + st.ring[k]) * 0.5, fc, before, &dm, static_cast<int>(k)) < 0) return false;
       next.slot[k] = floatBelow(limit - std::max(dc, dm));
     }
     return true;

@@ -77,7 +77,9 @@ struct SodtParams {
   double eta = 2.0;
   /// Basic and Feature: after a move, the vertex and the midpoints of its
   /// edges must lie within this distance of the input
-  /// surface around it (its one- and two-ring faces in the input mesh), as a
+  /// surface around it (its one- and two-ring faces in the input mesh; of a
+  /// neighbour with more than 32 faces around it, the 32 beside the
+  /// vertex), as a
   /// fraction of the bounding-box diagonal (0 disables the check). Keeps
   /// vertices and faces from cutting across creases and bounds the Hausdorff
   /// distance to the input. Not used by Denoise, whose purpose is to leave
