@@ -208,14 +208,16 @@ TEST(Metrics, DistanceSamplerMatchesVcgHausdorffSampler) {
   vcg::tri::UpdateBounding<Mesh>::Box(a);
   vcg::tri::UpdateBounding<Mesh>::Box(b);
   // More than 10000 samples each way: the lookups are split over the threads.
-  for (int threads : {1, 2, 3}) {
-    const auto ab = sodt::detail::oneSidedDistance(As, Bs, bound, threads);
-    EXPECT_TRUE(sameBits(ab.first, expected.first)) << ab.first << " vs " << expected.first << ", " << threads;
-    EXPECT_TRUE(sameBits(ab.second, expected.second)) << ab.second << " vs " << expected.second << ", " << threads;
-    const auto ba = sodt::detail::oneSidedDistance(b, a, bound, threads);  // MeshD in place, no copy
-    EXPECT_TRUE(sameBits(ba.first, expectedBa.first)) << ba.first << " vs " << expectedBa.first << ", " << threads;
-    EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second << ", " << threads;
-  }
+  // The faces in the grid (as for any ordinary mesh) or in the tree.
+  for (const auto index : {sodt::FaceIndex::Auto, sodt::FaceIndex::Tree})
+    for (int threads : {1, 2, 3}) {
+      const auto ab = sodt::detail::oneSidedDistance(As, Bs, bound, threads, true, index);
+      EXPECT_TRUE(sameBits(ab.first, expected.first)) << ab.first << " vs " << expected.first << ", " << threads;
+      EXPECT_TRUE(sameBits(ab.second, expected.second)) << ab.second << " vs " << expected.second << ", " << threads;
+      const auto ba = sodt::detail::oneSidedDistance(b, a, bound, threads, true, index);  // MeshD in place, no copy
+      EXPECT_TRUE(sameBits(ba.first, expectedBa.first)) << ba.first << " vs " << expectedBa.first << ", " << threads;
+      EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second << ", " << threads;
+    }
 }
 
 /// The distance measure's face grid is vcglib's GridStaticPtr::Set, cell for
@@ -296,14 +298,15 @@ TEST(Metrics, DistanceSearchMatchesVcgFarFromTheOtherSurface) {
   // are wide: its samples need searches several cells wide.
   EXPECT_GT(expected.first, 1.0);
   for (int threads : {1, 2})
-    for (bool simd : {true, false}) {
+    for (bool simd : {true, false})
+      for (const auto index : {sodt::FaceIndex::Auto, sodt::FaceIndex::Tree}) {
       sodt::SampleMesh As, Bs;
       sodt::detail::copyLive(a, As);
       sodt::detail::copyLive(b, Bs);
-      const auto ab = sodt::detail::oneSidedDistance(As, Bs, bound, threads, simd);
+      const auto ab = sodt::detail::oneSidedDistance(As, Bs, bound, threads, simd, index);
       EXPECT_TRUE(sameBits(ab.first, expected.first)) << ab.first << " vs " << expected.first << ", " << threads;
       EXPECT_TRUE(sameBits(ab.second, expected.second)) << ab.second << " vs " << expected.second << ", " << threads;
-      const auto ba = sodt::detail::oneSidedDistance(Bs, As, bound, threads, simd);
+      const auto ba = sodt::detail::oneSidedDistance(Bs, As, bound, threads, simd, index);
       EXPECT_TRUE(sameBits(ba.first, expectedBa.first)) << ba.first << " vs " << expectedBa.first << ", " << threads;
       EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second << ", " << threads;
     }
@@ -448,13 +451,14 @@ TEST(Metrics, DistanceSamplerMatchesVcgFarFromTheOrigin) {
     sodt::detail::copyToDouble(b, B);
     const double bound = 10.0 + std::abs(offset);
     const auto expected = vcgOneSided(A, B, bound);
-    for (int threads : {1, 2}) {
+    for (int threads : {1, 2})
+      for (const auto index : {sodt::FaceIndex::Auto, sodt::FaceIndex::Tree}) {
       Mesh a2, b2;
       sodt::detail::copyToDouble(a, a2);
       sodt::detail::copyToDouble(b, b2);
       vcg::tri::UpdateBounding<Mesh>::Box(a2);
       vcg::tri::UpdateBounding<Mesh>::Box(b2);
-      const auto got = sodt::detail::oneSidedDistance(a2, b2, bound, threads);
+      const auto got = sodt::detail::oneSidedDistance(a2, b2, bound, threads, true, index);
       EXPECT_TRUE(sameBits(got.first, expected.first)) << got.first << " vs " << expected.first << ", offset " << offset;
       EXPECT_TRUE(sameBits(got.second, expected.second)) << got.second << " vs " << expected.second << ", offset " << offset;
     }
@@ -515,4 +519,47 @@ TEST(Metrics, MeasuresAreTheSameOnAnyNumberOfThreads) {
   // Face lists that do not correspond, late in the list: -1 on any number.
   std::swap(moved.face[19000].V(0), moved.face[19000].V(1));
   for (int t : {1, 2, 3}) EXPECT_EQ(sodt::countInvertedFaces(moved, s, t), -1) << t << " threads";
+}
+
+/// A closed double fan of needles: in vcglib's grid each needle's box meets
+/// a share of all cells, N^2 / 4 links for N rim vertices (the sampling of a
+/// 100000-needle fan ran out of memory). The measure takes the tree of
+/// oriented boxes for it and finds vcglib's distances, bit for bit, against
+/// the same fan with its rim moved.
+TEST(Metrics, NeedleFansAreMeasuredInTheTreeWithVcglibsDistances) {
+  const int n = 3000;
+  std::mt19937 g(17);
+  std::vector<vcg::Point3d> ring, moved;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * sodt::kPi * k / n;
+    ring.emplace_back(std::cos(t), std::sin(t), 0);
+    const double s = 2 * sodt::kPi * (k + sodt_test::uniform(g, -0.3, 0.3)) / n;
+    moved.emplace_back(std::cos(s), std::sin(s), sodt_test::uniform(g, -1e-3, 1e-3));
+  }
+  Mesh a, b;
+  sodt_test::makeBipyramid(a, ring, vcg::Point3d(0, 0, 0.3));
+  sodt_test::makeBipyramid(b, moved, vcg::Point3d(0, 0, 0.3));
+  a.vert[1].P() = b.vert[1].P() = vcg::Point3d(0, 0, -0.3);
+  vcg::tri::UpdateBounding<Mesh>::Box(a);
+  vcg::tri::UpdateBounding<Mesh>::Box(b);
+  Mesh A, B;
+  sodt::detail::copyToDouble(a, A);
+  sodt::detail::copyToDouble(b, B);
+  const double bound = 10.0;
+  const auto expected = vcgOneSided(A, B, bound);
+  const auto expectedBa = vcgOneSided(B, A, bound);
+  {
+    sodt::detail::DistanceSampler<Mesh> auto_(b, bound, a.bbox), grid(b, bound, a.bbox, true, 1, sodt::FaceIndex::Grid);
+    EXPECT_TRUE(auto_.usesTree());
+    EXPECT_FALSE(grid.usesTree());
+  }
+  for (int threads : {1, 2}) {
+    const auto ab = sodt::detail::oneSidedDistance(a, b, bound, threads);
+    EXPECT_TRUE(sameBits(ab.first, expected.first)) << ab.first << " vs " << expected.first << ", " << threads;
+    EXPECT_TRUE(sameBits(ab.second, expected.second)) << ab.second << " vs " << expected.second << ", " << threads;
+    const auto ba = sodt::detail::oneSidedDistance(b, a, bound, threads);
+    EXPECT_TRUE(sameBits(ba.first, expectedBa.first)) << ba.first << " vs " << expectedBa.first << ", " << threads;
+    EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second << ", " << threads;
+  }
+  EXPECT_GT(expected.first, 1e-4);  // the rims differ
 }

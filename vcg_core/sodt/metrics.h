@@ -7,6 +7,7 @@
 #include "lanes.h"
 #include "mesh.h"
 
+#include <Eigen/Eigenvalues>
 #include <vcg/complex/algorithms/point_sampling.h>
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/normal.h>
@@ -49,6 +50,15 @@ struct DistanceStats {
 /// Sampling caps of surfaceDistance (per direction).
 constexpr int kMaxVertexSamples = 250000;
 constexpr int kMaxFaceSamples = 500000;
+
+/// How surfaceDistance indexes the faces it measures against: vcglib's grid
+/// or a tree of oriented boxes (see DistanceSampler), or the grid unless it
+/// would grow too large (Auto). The distances are the same.
+enum class FaceIndex { Auto, Grid, Tree };
+
+/// Auto takes the tree when the grid would hold more links than this many
+/// per face, plus a million.
+constexpr double kGridLinksPerFace = 16;
 
 /// Beyond this many reference diagonals, surfaceDistance reports a bound.
 constexpr double kFarDiagonals = 10.0;
@@ -155,21 +165,13 @@ void pointsOnly(const MeshType& m, SampleMesh& out) {
   vcg::tri::UpdateBounding<SampleMesh>::Box(out);
 }
 
-/// vcglib's GridStaticPtr::Set for faces, with the same grid (box, cells,
-/// and the faces of each cell) but built by counting: two passes over the
-/// faces instead of a link appended per face and cell and a sort of them all
-/// (on a multi-million face mesh the sort and the vector's regrowth took
-/// seconds, and the regrowth held up to twice the links). Within a cell the
-/// faces are in the order of [begin, end), where vcglib's unstable sort
-/// leaves them in no particular order. The faces must all be live. The grid
-/// covers the faces' box, inflated as vcglib inflates it, or that box joined
-/// with cover when cover sticks out of it (see DistanceSampler).
+/// The box, cells and cell sizes vcglib's GridStaticPtr::Set gives a face
+/// grid over [begin, end) (see setFaceGrid), without filling the cells.
 template <class FaceGrid, class Iter>
-void setFaceGrid(FaceGrid& grid, Iter begin, Iter end, const typename FaceGrid::Box3x& cover) {
+void layFaceGrid(FaceGrid& grid, Iter begin, Iter end, const typename FaceGrid::Box3x& cover) {
   using Box = typename FaceGrid::Box3x;
   using Coord = typename FaceGrid::CoordType;
   using Scalar = typename FaceGrid::ScalarType;
-  using Link = typename FaceGrid::Link;
   Box own, b;
   long long count = 0;
   for (Iter i = begin; i != end; ++i, ++count) {
@@ -193,16 +195,48 @@ void setFaceGrid(FaceGrid& grid, Iter begin, Iter end, const typename FaceGrid::
   grid.siz = siz;
   grid.dim = all.max - all.min;
   for (int j = 0; j < 3; ++j) grid.voxel[j] = grid.dim[j] / grid.siz[j];
+}
+
+/// The cells of face f in grid (those its box meets, clipped to the grid)
+/// in ib; false when there are none.
+template <class FaceGrid, class Face>
+bool faceCells(const FaceGrid& grid, const Face& f, vcg::Box3i& ib) {
+  typename FaceGrid::Box3x fb;
+  f.GetBBox(fb);
+  fb.Intersect(grid.bbox);
+  if (fb.IsNull()) return false;
+  grid.BoxToIBox(fb, ib);
+  return true;
+}
+
+/// How many links setFaceGrid would make over a grid laid by layFaceGrid,
+/// counted without making them (in time linear in the faces).
+template <class FaceGrid, class Iter>
+double faceGridLinks(const FaceGrid& grid, Iter begin, Iter end) {
+  double links = 0;
+  vcg::Box3i ib;
+  for (Iter i = begin; i != end; ++i)
+    if (faceCells(grid, *i, ib))
+      links += double(ib.max[0] - ib.min[0] + 1) * double(ib.max[1] - ib.min[1] + 1) * double(ib.max[2] - ib.min[2] + 1);
+  return links;
+}
+
+/// vcglib's GridStaticPtr::Set for faces, with the same grid (box, cells,
+/// and the faces of each cell) but built by counting: two passes over the
+/// faces instead of a link appended per face and cell and a sort of them all
+/// (on a multi-million face mesh the sort and the vector's regrowth took
+/// seconds, and the regrowth held up to twice the links). Within a cell the
+/// faces are in the order of [begin, end), where vcglib's unstable sort
+/// leaves them in no particular order. The faces must all be live. The grid
+/// covers the faces' box, inflated as vcglib inflates it, or that box joined
+/// with cover when cover sticks out of it (see DistanceSampler).
+template <class FaceGrid, class Iter>
+void setFaceGrid(FaceGrid& grid, Iter begin, Iter end, const typename FaceGrid::Box3x& cover) {
+  using Link = typename FaceGrid::Link;
+  layFaceGrid(grid, begin, end, cover);
+  const vcg::Point3i siz = grid.siz;
   const std::size_t cells = static_cast<std::size_t>(siz[0]) * siz[1] * siz[2];
-  // The cells of a face: those its box meets, clipped to the grid.
-  const auto cellsOf = [&](const typename FaceGrid::ObjType& f, vcg::Box3i& ib) {
-    Box fb;
-    f.GetBBox(fb);
-    fb.Intersect(grid.bbox);
-    if (fb.IsNull()) return false;
-    grid.BoxToIBox(fb, ib);
-    return true;
-  };
+  const auto cellsOf = [&](const typename FaceGrid::ObjType& f, vcg::Box3i& ib) { return faceCells(grid, f, ib); };
   std::vector<std::size_t> start(cells + 1, 0);
   vcg::Box3i ib;
   for (Iter i = begin; i != end; ++i)
@@ -226,6 +260,177 @@ void setFaceGrid(FaceGrid& grid, Iter begin, Iter end, const typename FaceGrid::
   grid.grid.resize(cells + 1);
   for (std::size_t c = 0; c <= cells; ++c) grid.grid[c] = grid.links.data() + start[c];
 }
+
+/// A hierarchy of oriented boxes over triangles, for the closest-face search
+/// where a grid does not work: a grid cell holds every face whose box meets
+/// it, and the box of a long needle meets a number of cells that grows with
+/// the mesh (a fan of N needles around one vertex puts about N^2 / 4 links
+/// in vcglib's grid: 10^10 for N = 10^5). Here each face is in one leaf, so
+/// the memory is linear in the faces, and a node is bounded by a box along
+/// the principal axes of its corners, which stays thin around a bundle of
+/// needles where an axis-aligned box would be as wide as the bundle is long.
+/// The faces are split at the median of their centroids along the widest
+/// axis of the centroids' box, as a bounding-volume hierarchy is usually
+/// built; the tree has about log2(F / 4) levels.
+template <class FaceType>
+class FaceBoxTree {
+ public:
+  using ScalarType = typename FaceType::ScalarType;
+  using CoordType = typename FaceType::CoordType;
+
+  /// Indexes the faces [begin, end). slack: an absolute margin added to
+  /// every box, to cover rounding in the projections.
+  template <class Iter>
+  void build(Iter begin, Iter end, double slack) {
+    faces_.clear();
+    for (Iter i = begin; i != end; ++i) faces_.push_back(&*i);
+    nodes_.clear();
+    if (faces_.empty()) return;
+    const std::size_t n = faces_.size();
+    std::vector<Vec3> centroid(n);
+    for (std::size_t k = 0; k < n; ++k) centroid[k] = (corner(k, 0) + corner(k, 1) + corner(k, 2)) / 3.0;
+    std::vector<int> order(n);
+    for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<int>(k);
+    nodes_.reserve(2 * (n / kLeaf + 1));
+    nodes_.emplace_back();
+    struct Range { int node, begin, end; };
+    std::vector<Range> todo{{0, 0, static_cast<int>(n)}};
+    while (!todo.empty()) {
+      const Range r = todo.back();
+      todo.pop_back();
+      bound(nodes_[r.node], order, r.begin, r.end, slack);
+      if (r.end - r.begin <= kLeaf) {
+        nodes_[r.node].begin = r.begin;
+        nodes_[r.node].end = r.end;
+        continue;
+      }
+      vcg::Box3d box;
+      for (int k = r.begin; k < r.end; ++k) box.Add(vcg::Point3d(centroid[order[k]][0], centroid[order[k]][1], centroid[order[k]][2]));
+      const vcg::Point3d d = box.Dim();
+      const int axis = d[0] >= d[1] && d[0] >= d[2] ? 0 : (d[1] >= d[2] ? 1 : 2);
+      const int mid = r.begin + (r.end - r.begin) / 2;
+      std::nth_element(order.begin() + r.begin, order.begin() + mid, order.begin() + r.end,
+                       [&](int a, int b) { return centroid[a][axis] < centroid[b][axis] || (centroid[a][axis] == centroid[b][axis] && a < b); });
+      const int left = static_cast<int>(nodes_.size());
+      nodes_[r.node].left = left;
+      nodes_.emplace_back();
+      nodes_.emplace_back();
+      todo.push_back({left + 1, mid, r.end});
+      todo.push_back({left, r.begin, mid});
+    }
+    std::vector<const FaceType*> sorted(n);
+    for (std::size_t k = 0; k < n; ++k) sorted[k] = faces_[order[k]];
+    faces_.swap(sorted);
+  }
+
+  bool empty() const { return nodes_.empty(); }
+
+  /// Calls visit(face) for every face whose leaf's box is within
+  /// sqrt(reach2()) of p, nearer subtrees first; reach2 is asked again
+  /// before each node, so a visit that finds a closer face narrows the
+  /// search.
+  template <class Reach2, class Visit>
+  void search(const CoordType& p, Reach2&& reach2, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    const Vec3 q{double(p[0]), double(p[1]), double(p[2])};
+    struct Entry { int node; double d2; };
+    Entry stack[128];
+    int top = 0;
+    stack[top++] = {0, distance2(nodes_[0], q)};
+    while (top > 0) {
+      const Entry e = stack[--top];
+      if (e.d2 > reach2()) continue;
+      const Node& nd = nodes_[e.node];
+      if (nd.left < 0) {
+        for (int k = nd.begin; k < nd.end; ++k) visit(*faces_[k]);
+        continue;
+      }
+      const double a = distance2(nodes_[nd.left], q), b = distance2(nodes_[nd.left + 1], q);
+      // The nearer child is searched first: it goes on top.
+      if (a <= b) {
+        stack[top++] = {nd.left + 1, b};
+        stack[top++] = {nd.left, a};
+      } else {
+        stack[top++] = {nd.left, a};
+        stack[top++] = {nd.left + 1, b};
+      }
+    }
+  }
+
+ private:
+  static constexpr int kLeaf = 4;  ///< most faces in a leaf
+
+  struct Node {
+    Vec3 centre;
+    Vec3 axis[3];     ///< orthonormal
+    double half[3];   ///< half extents along axis, with the slack
+    int left = -1;    ///< children left and left + 1; -1 for a leaf
+    int begin = 0, end = 0;  ///< a leaf's faces in faces_
+  };
+
+  Vec3 corner(std::size_t k, int j) const {
+    const CoordType& c = faces_[k]->cP(j);
+    return Vec3(double(c[0]), double(c[1]), double(c[2]));
+  }
+
+  /// Squared distance from q to the node's box (0 inside).
+  static double distance2(const Node& nd, const Vec3& q) {
+    const Vec3 d = q - nd.centre;
+    double s = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double e = std::max(std::abs(d * nd.axis[i]) - nd.half[i], 0.0);
+      s += e * e;
+    }
+    return s;
+  }
+
+  /// The box of the corners of faces order[b, e): along the principal axes
+  /// of those corners (the axes of the world when they are not finite).
+  void bound(Node& nd, const std::vector<int>& order, int b, int e, double slack) const {
+    const Vec3 ref = corner(order[b], 0);
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double count = 0;
+    for (int k = b; k < e; ++k)
+      for (int j = 0; j < 3; ++j) {
+        const Vec3 d = corner(order[k], j) - ref;
+        const Eigen::Vector3d x(d[0], d[1], d[2]);
+        sum += x;
+        cov += x * x.transpose();
+        count += 1;
+      }
+    const Eigen::Vector3d mean = sum / count;
+    cov = cov / count - mean * mean.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    Eigen::Matrix3d V = eig.eigenvectors();
+    if (eig.info() != Eigen::Success || !V.allFinite()) V = Eigen::Matrix3d::Identity();
+    for (int i = 0; i < 3; ++i) nd.axis[i] = Vec3(V(0, i), V(1, i), V(2, i));
+    // Orthonormal to rounding; the extents below are measured along these
+    // very axes, so the box holds the corners whatever the axes are.
+    double lo[3], hi[3];
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = std::numeric_limits<double>::infinity();
+      hi[i] = -lo[i];
+    }
+    for (int k = b; k < e; ++k)
+      for (int j = 0; j < 3; ++j) {
+        const Vec3 d = corner(order[k], j) - ref;
+        for (int i = 0; i < 3; ++i) {
+          const double t = d * nd.axis[i];
+          lo[i] = std::min(lo[i], t);
+          hi[i] = std::max(hi[i], t);
+        }
+      }
+    nd.centre = ref;
+    for (int i = 0; i < 3; ++i) {
+      nd.centre += nd.axis[i] * (0.5 * (lo[i] + hi[i]));
+      nd.half[i] = 0.5 * (hi[i] - lo[i]) * (1 + 1e-9) + slack;
+    }
+  }
+
+  std::vector<Node> nodes_;
+  std::vector<const FaceType*> faces_;
+};
 
 /// Distances from sample points to the surface of `to` (to its vertices when
 /// it has no faces): vcglib's HausdorffSampler reduced to what
@@ -258,7 +463,11 @@ class DistanceSampler {
   using ScalarType = typename To::ScalarType;
 
   /// Normalizes to's face normals (the point-face distance needs them) and
-  /// indexes its faces, or its vertices when it has none. The samples are
+  /// indexes its faces, or its vertices when it has none. The faces go in
+  /// vcglib's grid unless that would hold more than kGridLinksPerFace links
+  /// per face (plus a million): long thin faces, each in many cells; then in
+  /// a FaceBoxTree (index forces one or the other; the distances are the
+  /// same either way). The samples are
   /// expected inside `cover`: vcglib's closest-point search widens its radius
   /// one cell at a time, so a sample far outside the grid would take as many
   /// rounds as there are cell widths between them (a mesh whose spike the
@@ -267,14 +476,20 @@ class DistanceSampler {
   /// boxes four at a time where the processor can (the results are the same
   /// either way); threads: for the boxes.
   DistanceSampler(To& to, ScalarType upperBound, const vcg::Box3<ScalarType>& cover, bool simd = true,
-                  int threads = 1)
+                  int threads = 1, FaceIndex index = FaceIndex::Auto)
       : to_(to), upperBound_(upperBound), simd_(simd && lanes::available()) {
     vcg::tri::UpdateNormal<To>::PerFaceNormalized(to);
     if (to.fn == 0) {
       setGrid(vertexGrid_, to.vert.begin(), to.vert.end(), to.vn, cover);
     } else {
-      setFaceGrid(faceGrid_, to.face.begin(), to.face.end(), cover);
-      setBoxes(std::max(1, std::min(threads, 1024)));
+      layFaceGrid(faceGrid_, to.face.begin(), to.face.end(), cover);
+      useTree_ = index == FaceIndex::Tree ||
+                 (index == FaceIndex::Auto &&
+                  faceGridLinks(faceGrid_, to.face.begin(), to.face.end()) > kGridLinksPerFace * double(to.fn) + 1e6);
+      if (!useTree_) {
+        setFaceGrid(faceGrid_, to.face.begin(), to.face.end(), cover);
+        setBoxes(std::max(1, std::min(threads, 1024)));
+      }
     }
     // vcglib's point-face distance rounds at the scale of the coordinates,
     // not of the distance: the bounding-box test leaves that much room.
@@ -285,7 +500,11 @@ class DistanceSampler {
     if (!cover.IsNull())
       for (int j = 0; j < 3; ++j) largest = std::max({largest, std::abs(cover.min[j]), std::abs(cover.max[j])});
     slack_ = ScalarType(1e-12) * largest;
+    if (useTree_) tree_.build(to.face.begin(), to.face.end(), double(slack_));
   }
+
+  /// True when the faces are indexed by a FaceBoxTree instead of the grid.
+  bool usesTree() const { return useTree_; }
 
   /// HausdorffSampler::AddVert without the normal and the quality.
   template <class VertexType>
@@ -437,6 +656,7 @@ class DistanceSampler {
   /// closest distance so far by more than the distance's rounding (slack_):
   /// its distance could not beat it then.
   ScalarType closestFace(const CoordType& p) {
+    if (useTree_) return closestFaceInTree(p);
     FaceGrid& G = faceGrid_;
     Link* const links = G.links.data();
     ScalarType minDist = upperBound_;
@@ -487,6 +707,23 @@ class DistanceSampler {
       if (!(minDist > radius)) break;
       radius = found ? minDist : radius + step;
     }
+    return minDist;
+  }
+
+  /// closestFace over the tree: every face whose leaf's box is within the
+  /// closest distance so far (plus its rounding) is measured, so the
+  /// smallest distance is the one the grid search finds.
+  ScalarType closestFaceInTree(const CoordType& p) const {
+    ScalarType minDist = upperBound_;
+    vcg::face::PointDistanceBaseFunctor<ScalarType> exact;
+    CoordType closest;
+    const auto reach2 = [&] {
+      const double r = double(minDist) * (1 + 1e-9) + double(slack_);
+      return r * r;
+    };
+    tree_.search(p, reach2, [&](const typename To::FaceType& f) {
+      if (!f.IsD()) exact(f, p, minDist, closest);
+    });
     return minDist;
   }
 
@@ -545,6 +782,8 @@ class DistanceSampler {
   }
 
   To& to_;
+  bool useTree_ = false;
+  FaceBoxTree<typename To::FaceType> tree_;
   FaceGrid faceGrid_;
   VertexGrid vertexGrid_;
   std::unique_ptr<float[]> box_;  ///< see setBoxes
@@ -603,9 +842,9 @@ void montecarloSamples(From& m, Sampler& ps, int sampleNum) {
 /// (the results are the same either way).
 template <class From, class To>
 std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound, int threads = 1,
-                                           bool simd = true) {
+                                           bool simd = true, FaceIndex index = FaceIndex::Auto) {
   using Sampler = DistanceSampler<To>;
-  Sampler hs(to, upperBound, from.bbox, simd, threads);
+  Sampler hs(to, upperBound, from.bbox, simd, threads, index);
   using SS = vcg::tri::SurfaceSampling<From, Sampler>;
   SS::SamplingRandomGenerator().initialize(20130101u);
   // Every vertex and 2F area-uniform points, capped so that a multi-million
