@@ -237,7 +237,7 @@ namespace {
 /// The faces of v's patch, sorted, each once.
 std::vector<int> patchOf(const sodt::InputSurface& in, int v) {
   std::vector<int> faces;
-  in.forEachPatchFace(v, [&](int f) {
+  in.forEachPatchFace(v, [&](int f, int) {
     faces.push_back(f);
     return false;
   });

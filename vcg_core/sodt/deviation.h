@@ -174,11 +174,13 @@ struct InputSurface {
   /// none; *dist as for nearFace. The face hints (-1 for none) are tried
   /// first, both by the cheap test before either by the exact one (an edge
   /// midpoint is usually over one of the two faces beside its edge), then
-  /// the patch, v's own faces from its star's face start on (a point of
-  /// star triangle k is usually over face k or one beside it, which matters
-  /// around a vertex of high valence); whether a face is found does not
-  /// depend on the hints or start, only the time does.
-  int nearFaceOf(int v, const Vec3& q, int hint, int hint2 = -1, double* dist = nullptr, int start = 0) const {
+  /// the patch, v's own faces from face *cursor of its input star on (0
+  /// without a cursor); *cursor is set to the own face found. Points taken
+  /// around a star in order lie over its faces in order, so that with a
+  /// cursor kept between them the search around a vertex of valence N costs
+  /// N steps in all, not N per point. Whether a face is found does not
+  /// depend on the hints or the cursor, only the time does.
+  int nearFaceOf(int v, const Vec3& q, int hint, int hint2 = -1, double* dist = nullptr, int* cursor = nullptr) const {
     if (hint2 == hint) hint2 = -1;
     const Quick r1 = hint >= 0 ? quickTest(hint, q, dist) : Quick::Far;
     if (r1 == Quick::Near) return hint;
@@ -189,18 +191,20 @@ struct InputSurface {
     int found = -1;
     forEachPatchFace(
         v,
-        [&](int f) {
+        [&](int f, int at) {
           if (f == hint || f == hint2 || !nearFace(f, q, dist)) return false;
           found = f;
+          if (cursor && at >= 0) *cursor = at;
           return true;
         },
-        start);
+        cursor ? *cursor : 0);
     return found;
   }
 
-  /// Calls visit(f) for each face f of interior vertex v's patch (see
-  /// InputSurface), its own faces first from its star's face start on
-  /// (taken modulo the star's size), until visit returns true; true then. A
+  /// Calls visit(f, at) for each face f of interior vertex v's patch (see
+  /// InputSurface) until visit returns true; true then. First v's own
+  /// faces, from face start of its input star on (modulo the star's size),
+  /// with at their position in the star; then the others, with at = -1. A
   /// face in two neighbours' windows may be visited twice.
   template <class Visit>
   bool forEachPatchFace(int v, Visit&& visit, int start = 0) const {
@@ -208,8 +212,8 @@ struct InputSurface {
     const int b = T.ringBegin[v], e = T.ringBegin[v + 1];
     const int n = e - b;
     const int s = n > 0 ? (start % n + n) % n : 0;
-    for (int c = 0; c < n; ++c)
-      if (visit(T.ringFace[b + (s + c < n ? s + c : s + c - n)])) return true;
+    for (int c = 0, at = s; c < n; ++c, at = at + 1 < n ? at + 1 : 0)
+      if (visit(T.ringFace[b + at], at)) return true;
     for (int k = b; k < e; ++k) {
       const int u = T.ringIdx[k];
       if (T.kind[u] != VertexKind::Interior) continue;
@@ -228,7 +232,7 @@ struct InputSurface {
         // Face j of u's star is (u, ring j, ring j + 1): one with v in it
         // is one of v's own faces, visited above.
         if (T.ringIdx[j] == v || T.ringIdx[rel + 1 < n ? j + 1 : ub] == v) continue;
-        if (visit(T.ringFace[j])) return true;
+        if (visit(T.ringFace[j], -1)) return true;
       }
     }
     return false;
@@ -317,12 +321,13 @@ struct InputSurface {
       return true;
     }
     double d = 0;
+    int cursor = 0;  // see nearFaceOf
     if (step <= last.point) {
       ++reused;
       next.point = floatBelow(last.point - step);
     } else {
       ++queried;
-      const int f = nearFaceOf(v, p, pointHint >= 0 ? pointHint : (hints ? hints[0] : -1), -1, &d);
+      const int f = nearFaceOf(v, p, pointHint >= 0 ? pointHint : (hints ? hints[0] : -1), -1, &d, &cursor);
       if (f < 0) return false;
       pointHint = f;
       next.point = floatBelow(limit - d);
@@ -337,12 +342,11 @@ struct InputSurface {
       }
       queried += 2;
       double dc = 0, dm = 0;
-      const int fc =
-          nearFaceOf(v, (p + st.ring[k] + st.at(k + 1)) / 3.0, hints ? hints[k] : -1, -1, &dc, static_cast<int>(k));
+      const int fc = nearFaceOf(v, (p + st.ring[k] + st.at(k + 1)) / 3.0, hints ? hints[k] : -1, -1, &dc, &cursor);
       if (fc < 0) return false;
       if (hints) hints[k] = fc;
       const int before = hints ? hints[k == 0 ? n - 1 : k - 1] : -1;
-      if (nearFaceOf(v, (p + st.ring[k]) * 0.5, fc, before, &dm, static_cast<int>(k)) < 0) return false;
+      if (nearFaceOf(v, (p + st.ring[k]) * 0.5, fc, before, &dm, &cursor) < 0) return false;
       next.slot[k] = floatBelow(limit - std::max(dc, dm));
     }
     return true;
