@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace sodt {
@@ -44,6 +45,7 @@ struct InputSurface {
   /// Per ring entry k of an interior vertex v (see RingTopology), the index
   /// j into the ring of u = ringIdx[k] with ringIdx[j] == v, when u is
   /// interior and its star has more than kPatchWindow faces; -1 otherwise.
+  /// Empty when no star has more than kPatchWindow faces.
   std::vector<int> mirror;
 
   /// The margin of every checked point of the input itself (see Margins):
@@ -80,35 +82,40 @@ struct InputSurface {
 
   /// Fills mirror in time linear in the ring entries: the entries pointing
   /// at a large star are bucketed by that star's centre, whose ring then
-  /// gives each of them its position in one pass.
+  /// gives each of them its position in one pass. Without a large star,
+  /// mirror stays empty (and is never read).
   void setMirror() {
     const RingTopology& T = *topo;
-    mirror.assign(T.ringIdx.size(), -1);
+    mirror.clear();
     if (T.ringBegin.empty()) return;
     const int nv = static_cast<int>(T.ringBegin.size()) - 1;
     const auto large = [&](int u) { return T.kind[u] == VertexKind::Interior && T.ringSize(u) > kPatchWindow; };
     std::vector<int> begin(nv + 1, 0);
+    bool any = false;
     for (int v = 0; v < nv; ++v) {
       if (T.kind[v] != VertexKind::Interior) continue;
       for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k)
-        if (large(T.ringIdx[k])) ++begin[T.ringIdx[k] + 1];
+        if (large(T.ringIdx[k])) {
+          ++begin[T.ringIdx[k] + 1];
+          any = true;
+        }
     }
+    if (!any) return;
+    mirror.assign(T.ringIdx.size(), -1);
     for (int u = 0; u < nv; ++u) begin[u + 1] += begin[u];
-    if (begin[nv] == 0) return;
-    std::vector<int> entry(begin[nv]), next(begin.begin(), begin.end() - 1);
+    // Per large star, the ring entries (k, owner v) that point at it.
+    std::vector<std::pair<int, int>> entry(begin[nv]);
+    std::vector<int> next(begin.begin(), begin.end() - 1);
     for (int v = 0; v < nv; ++v) {
       if (T.kind[v] != VertexKind::Interior) continue;
       for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k)
-        if (large(T.ringIdx[k])) entry[next[T.ringIdx[k]]++] = k;
+        if (large(T.ringIdx[k])) entry[next[T.ringIdx[k]]++] = {k, v};
     }
     std::vector<int> where(nv, -1);  // per vertex its position in the current star's ring
-    std::vector<int> owner(T.ringIdx.size());  // per ring entry the vertex whose ring holds it
-    for (int v = 0; v < nv; ++v)
-      for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k) owner[k] = v;
     for (int u = 0; u < nv; ++u) {
       if (begin[u] == begin[u + 1]) continue;
       for (int j = T.ringBegin[u + 1] - 1; j >= T.ringBegin[u]; --j) where[T.ringIdx[j]] = j;  // the first of repeats
-      for (int e = begin[u]; e < begin[u + 1]; ++e) mirror[entry[e]] = where[owner[entry[e]]];
+      for (int e = begin[u]; e < begin[u + 1]; ++e) mirror[entry[e].first] = where[entry[e].second];
       for (int j = T.ringBegin[u]; j < T.ringBegin[u + 1]; ++j) where[T.ringIdx[j]] = -1;
     }
   }
