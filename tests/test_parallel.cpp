@@ -73,23 +73,60 @@ TEST(Colouring, NeighboursNeverShareAPhaseAndEveryVertexAppearsOnce) {
       std::printf("blobs_mc: %zu vertices in %d colours (max valence %d)\n", active.size(), phases, maxValence);
       continue;
     }
-    // Tile by tile, one colour of one tile per phase, ascending within it.
-    int tileOutOfOrder = 0, mixedPhases = 0, unsorted = 0;
-    for (int c = 0; c < phases; ++c) {
-      const int first = plan.order[plan.phaseBegin[c]];
-      if (c > 0 && first / tile < plan.order[plan.phaseBegin[c] - 1] / tile) ++tileOutOfOrder;
-      for (int j = plan.phaseBegin[c] + 1; j < plan.phaseBegin[c + 1]; ++j) {
-        const int v = plan.order[j];
-        mixedPhases += v / tile != first / tile || colour[v] != colour[first];
-        unsorted += v < plan.order[j - 1];
+    // One colour of one tile per phase, ascending within it; a tile's
+    // phases in a row (tileBegin), each tile once.
+    ASSERT_FALSE(plan.tileBegin.empty()) << what;
+    ASSERT_EQ(plan.tileBegin.front(), 0) << what;
+    ASSERT_EQ(plan.tileBegin.back(), phases) << what;
+    int mixedPhases = 0, unsorted = 0, mixedTiles = 0;
+    std::vector<int> tileOf(m.vert.size(), -1);  // plan tile of each vertex
+    std::set<int> tilesSeen;
+    const int planTiles = static_cast<int>(plan.tileBegin.size()) - 1;
+    for (int t = 0; t < planTiles; ++t) {
+      const int id = plan.order[plan.phaseBegin[plan.tileBegin[t]]] / tile;
+      EXPECT_TRUE(tilesSeen.insert(id).second) << what << ": tile " << id << " twice";
+      for (int c = plan.tileBegin[t]; c < plan.tileBegin[t + 1]; ++c) {
+        const int first = plan.order[plan.phaseBegin[c]];
+        for (int j = plan.phaseBegin[c]; j < plan.phaseBegin[c + 1]; ++j) {
+          const int v = plan.order[j];
+          tileOf[v] = t;
+          mixedTiles += v / tile != id;
+          mixedPhases += colour[v] != colour[first];
+          unsorted += j > plan.phaseBegin[c] && v < plan.order[j - 1];
+        }
       }
     }
-    EXPECT_EQ(tileOutOfOrder, 0) << what;
     EXPECT_EQ(mixedPhases, 0) << what;
     EXPECT_EQ(unsorted, 0) << what;
+    EXPECT_EQ(mixedTiles, 0) << what;
+    // Groups of tiles: ascending tile index within a group, and no vertex
+    // with a ring neighbour in another tile of its group.
+    ASSERT_GE(plan.groupBegin.size(), 2u) << what;
+    ASSERT_EQ(plan.groupBegin.front(), 0) << what;
+    ASSERT_EQ(plan.groupBegin.back(), planTiles) << what;
+    std::vector<int> groupOf(planTiles, -1);
+    int groupOrder = 0;
+    for (std::size_t g = 0; g + 1 < plan.groupBegin.size(); ++g)
+      for (int t = plan.groupBegin[g]; t < plan.groupBegin[g + 1]; ++t) {
+        groupOf[t] = static_cast<int>(g);
+        groupOrder += t > plan.groupBegin[g] &&
+                      plan.order[plan.phaseBegin[plan.tileBegin[t]]] / tile <
+                          plan.order[plan.phaseBegin[plan.tileBegin[t - 1]]] / tile;
+      }
+    EXPECT_EQ(groupOrder, 0) << what;
+    int touching = 0;
+    for (int v : active)
+      for (int k = topo.ringBegin[v]; k < topo.ringBegin[v + 1]; ++k) {
+        const int u = topo.ringIdx[k];
+        if (tileOf[u] < 0 || tileOf[u] == tileOf[v]) continue;
+        touching += groupOf[tileOf[u]] == groupOf[tileOf[v]];
+      }
+    EXPECT_EQ(touching, 0) << what;
     const int colours = *std::max_element(colour.begin(), colour.end()) + 1;
     const int tiles = (active.back() / tile) - (active.front() / tile) + 1;
     EXPECT_LE(phases, tiles * colours) << what;
+    EXPECT_LE(static_cast<int>(plan.groupBegin.size()) - 1, planTiles) << what;
+    std::printf("%s: %d tiles in %zu groups\n", what.c_str(), planTiles, plan.groupBegin.size() - 1);
     EXPECT_GT(phases, tile < static_cast<int>(active.size()) / 2 ? colours : 0) << what;
   }
 }
@@ -102,6 +139,20 @@ TEST(Parallel, ResultsAreBitIdenticalForEveryThreadCount) {
   loadBundled(input, "blobs_mc.ply");
   MeshD noisy;
   loadBundled(noisy, "cube_noisy.ply");
+  // 40962 vertices: the guarded runs' plan has 20 tiles of 2048, enough for
+  // every thread count here to sweep the tiles of a group at once (with
+  // kMinParallelTiles = 4 per thread) instead of splitting each phase.
+  MeshD sphere;
+  sodt_test::makeSphere(sphere, 6);
+  sodt_test::jitterOnSphere(sphere, 0.4, 5);
+  {
+    const sodt::RingTopology topo = sodt::buildRingTopology(sphere);
+    std::vector<int> all(sphere.vert.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    const sodt::SweepPlan plan = sodt::colourVertices(topo, all, 2048);
+    ASSERT_GE(plan.tileBegin.size(), 4u * 4 + 1);
+    ASSERT_GE(plan.groupBegin.size(), 3u);
+  }
   struct Case {
     MeshD* mesh;
     sodt::Algorithm algorithm;
@@ -115,6 +166,8 @@ TEST(Parallel, ResultsAreBitIdenticalForEveryThreadCount) {
       {&input, sodt::Algorithm::Feature, sodt::Guard::Quality, false},
       {&input, sodt::Algorithm::Odt, sodt::Guard::Quality, false},
       {&noisy, sodt::Algorithm::Denoise, sodt::Guard::Quality, false},
+      {&sphere, sodt::Algorithm::Basic, sodt::Guard::Quality, false},
+      {&sphere, sodt::Algorithm::Feature, sodt::Guard::Fold, true},
   };
   for (const Case& c : cases) {
     std::vector<vcg::Point3d> refPos;

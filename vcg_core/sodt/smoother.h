@@ -327,240 +327,266 @@ struct SodtSmoother {
 
     const auto sweepsStart = std::chrono::steady_clock::now();
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
-      for (std::size_t c = 0; c + 1 < plan.phaseBegin.size(); ++c, ++phase) {
-        // A visit whose outcome did not move the vertex need not be repeated
-        // while nothing in its star has moved since.
-        const auto still = [&](int i) {
-          if (lastVisit[i] < 0 || moves(lastOutcome[i])) return false;
-          for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k)
-            if (movedAt[topo.ringIdx[k]] >= lastVisit[i]) return false;
-          return true;
-        };
-        const auto skip = [&](int i, Scratch& sc) {
-          ++sc.count[static_cast<int>(lastOutcome[i])];
-          ++sc.skipped;
-        };
-        const auto record = [&](int i, Outcome o, Scratch& sc) {
-          ++sc.count[static_cast<int>(o)];
-          lastVisit[i] = phase;
-          lastOutcome[i] = o;
-          if (moves(o)) movedAt[i] = phase;
-        };
-        // The deviation guard's view of vertex i's margins (see Budget).
-        const auto prepareBudget = [&](int i, Scratch& sc, Budget& budget) {
-          const int b = topo.ringBegin[i], e = topo.ringBegin[i + 1];
-          // Path lengths grow by rounding too: a margin of 1e-12 of them.
-          const double eps = 1e-12 * (odo[i] + input.limit);
-          sc.drift.resize(e - b);  // within the reserved size
-          for (int k = b; k < e; ++k) {
-            const double o = odo[topo.ringIdx[k]];
-            sc.drift[k - b] = o - slotOdo[k] + 1e-12 * o + eps;
-          }
-          sc.nextSlot.resize(e - b);
-          budget.drift = sc.drift.data();
-          budget.eps = eps;
-          budget.last.point = pointMargin[i];
-          budget.last.slot = slotMargin.data() + b;
-          budget.next.slot = sc.nextSlot.data();
-        };
-        // Keeps the margins of vertex i's accepted move from `from`.
-        const auto commitMargins = [&](int i, const Vec3& from, const Budget& budget) {
-          odo[i] += (pos[i] - from).Norm();
-          pointMargin[i] = budget.next.point;
-          for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k) {
-            slotMargin[k] = budget.next.slot[k - topo.ringBegin[i]];
-            slotOdo[k] = InputSurface::floatBelow(odo[topo.ringIdx[k]]);
-          }
-        };
-        // Visits vertex i, with its proposal when one was computed already;
-        // false when the visit was answered from the previous one.
-        const auto visitOne = [&](int i, Scratch& sc, const Proposal* given, FullStep full) {
-          if (still(i)) {
-            skip(i, sc);
-            return false;
-          }
-          Star& star = sc.star;
-          const int b = topo.ringBegin[i], e = topo.ringBegin[i + 1];
-          star.center = pos[i];
-          star.ring.resize(e - b);
-          for (int k = b; k < e; ++k) star.ring[k - b] = pos[topo.ringIdx[k]];
-          if (!faceNormal.empty()) {
-            star.refNormal.resize(e - b);
-            for (int k = b; k < e; ++k) star.refNormal[k - b] = faceNormal[topo.ringFace[k]];
-          }
-          int* hints = deviationGuard ? slotHint.data() + b : nullptr;
-          Budget budget;
-          if (deviationGuard) prepareBudget(i, sc, budget);
-          const Vec3 from = pos[i];
-          const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, budget, pos[i], given, full);
-          sc.queried += budget.queried;
-          sc.reused += budget.reused;
-          record(i, o, sc);
-          if (moves(o) && deviationGuard && p.reuseDeviationMargins) commitMargins(i, from, budget);
-          return true;
-        };
-        // withinReach for a vertex the kernel moved, from its ring in pos.
-        const auto laneWithinReach = [&](int i, const Vec3& y) {
-          for (int k = 0; k < 3; ++k)
-            if (!(y[k] >= ctx.boxLo[k] && y[k] <= ctx.boxHi[k])) return false;
-          const double s2 = (y - pos[i]).SquaredNorm();
-          for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k)
-            if (s2 <= (pos[topo.ringIdx[k]] - pos[i]).SquaredNorm()) return true;
-          return false;
-        };
-        // When the margins of vertex i's last move answer the deviation test
-        // of its move to y with no distance query, commits the move as the
-        // visit would (InputSurface::keepsByMargins); false, with nothing
-        // changed, otherwise: the visit then runs in full.
-        const auto laneKeeps = [&](int i, const Vec3& y, Scratch& sc) {
-          Budget budget;
-          prepareBudget(i, sc, budget);
-          const double step = (y - pos[i]).Norm() + budget.eps;
-          if (!input.keepsByMargins(i, sc.drift.size(), step, budget.drift, budget.last, budget.next, sc.reused))
-            return false;
-          const Vec3 from = pos[i];
-          pos[i] = y;
-          record(i, Outcome::Moved, sc);
-          commitMargins(i, from, budget);
-          return true;
-        };
-        if (useLanes) {
-          // Four vertices of equal valence per kernel call, then the rest
-          // one by one: all of one colour, so the order does not matter.
-          const int g0 = lanePlan.groupBegin[c], ng = lanePlan.groupBegin[c + 1] - g0;
-          const int* rest = lanePlan.rest.data() + lanePlan.restBegin[c];
-          const int nr = lanePlan.restBegin[c + 1] - lanePlan.restBegin[c];
-          const auto visitGroup = [&](int g, Scratch& sc) {
-#if defined(__GNUC__) || defined(__clang__)
-            // (Here, not in a function of its own: GCC takes a function that
-            // only prefetches for one without effects and drops its calls.)
-            if (g + kPrefetchGroups < g0 + ng) {
-              const int ahead = g + kPrefetchGroups;
-              const int* table = lanePlan.table.data() + lanePlan.tableBegin[ahead];
-              const int entries = lanes::kWidth * (lanePlan.valence[ahead] + 1);
-              for (int e = 0; e < entries; ++e) __builtin_prefetch(&pos[0][0] + table[e]);
-              // The deviation guard's margins and path lengths.
-              if (laneMargins) {
-                for (int e = 0; e < entries; ++e) __builtin_prefetch(&odo[table[e] / 3]);
-                const int* va = lanePlan.vertex.data() + lanes::kWidth * ahead;
-                for (int l = 0; l < lanes::kWidth; ++l) {
-                  __builtin_prefetch(&slotMargin[topo.ringBegin[va[l]]]);
-                  __builtin_prefetch(&slotOdo[topo.ringBegin[va[l]]]);
-                }
-              }
-              // The guard reads the input normals of the ring's faces.
-              if (prefetchFaces) {
-                const int* va = lanePlan.vertex.data() + lanes::kWidth * ahead;
-                for (int l = 0; l < lanes::kWidth; ++l)
-                  for (int k = topo.ringBegin[va[l]]; k < topo.ringBegin[va[l] + 1]; ++k)
-                    __builtin_prefetch(&faceNormal[topo.ringFace[k]]);
-              }
+      const int sweepBase = phase;
+      // Sweeps phase c, numbered phaseNo among all phases of the run, on the
+      // calling thread with scratch sc0, or split between the threads when
+      // parallel.
+      const auto runPhase = [&](std::size_t c, int phaseNo, Scratch& sc0, bool parallel) {
+        (void)parallel;
+          // A visit whose outcome did not move the vertex need not be repeated
+          // while nothing in its star has moved since.
+          const auto still = [&](int i) {
+            if (lastVisit[i] < 0 || moves(lastOutcome[i])) return false;
+            for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k)
+              if (movedAt[topo.ringIdx[k]] >= lastVisit[i]) return false;
+            return true;
+          };
+          const auto skip = [&](int i, Scratch& sc) {
+            ++sc.count[static_cast<int>(lastOutcome[i])];
+            ++sc.skipped;
+          };
+          const auto record = [&](int i, Outcome o, Scratch& sc) {
+            ++sc.count[static_cast<int>(o)];
+            lastVisit[i] = phaseNo;
+            lastOutcome[i] = o;
+            if (moves(o)) movedAt[i] = phaseNo;
+          };
+          // The deviation guard's view of vertex i's margins (see Budget).
+          const auto prepareBudget = [&](int i, Scratch& sc, Budget& budget) {
+            const int b = topo.ringBegin[i], e = topo.ringBegin[i + 1];
+            // Path lengths grow by rounding too: a margin of 1e-12 of them.
+            const double eps = 1e-12 * (odo[i] + input.limit);
+            sc.drift.resize(e - b);  // within the reserved size
+            for (int k = b; k < e; ++k) {
+              const double o = odo[topo.ringIdx[k]];
+              sc.drift[k - b] = o - slotOdo[k] + 1e-12 * o + eps;
             }
-#endif
-            const int* vs = lanePlan.vertex.data() + lanes::kWidth * g;
-            lanes::Targets t;
-            // The full-step test (see likelyNeeded).
-            int likely = 0;
-            if (laneGuard)
-              for (int l = 0; l < lanes::kWidth; ++l) likely += lastOutcome[vs[l]] == Outcome::Moved;
-            lanes::StepVerdict v;
-            lanes::targets4(&pos[0][0], lanePlan.table.data() + lanePlan.tableBegin[g], lanePlan.valence[g], t,
-                            lanePrepare ? &laneGuardInput : nullptr, likely >= likelyNeeded ? &v : nullptr,
-                            lanePrepare ? &sc.prepared : nullptr, denoiseLanes ? &laneDenoise : nullptr);
-            if (likely < likelyNeeded) v.allowed = v.refused = 0;
-            for (int l = 0; l < lanes::kWidth; ++l) {
-              const int i = vs[l];
-              const bool ok = (t.ok >> l & 1) != 0;
-              if (p.guard != Guard::None) {
-                if ((v.allowed >> l & 1) && laneWithinReach(i, Vec3(v.x[l], v.y[l], v.z[l]))) {
-                  // The visit moves the vertex by the full step when nothing
-                  // else is to be tested: no deviation bound, or margins that
-                  // answer it. It cannot be one still() would answer: that
-                  // visit, on the same star with the same margins, did not
-                  // move the vertex.
-                  const Vec3 y(v.x[l], v.y[l], v.z[l]);
-                  if (!deviationGuard) {
-                    pos[i] = y;
-                    record(i, Outcome::Moved, sc);
-                    ++sc.laneVisits;
-                    continue;
-                  }
-                  if (laneKeeps(i, y, sc)) {
-                    ++sc.laneVisits;
-                    continue;
-                  }
-                }
-                FullStep full;
-                full.prepared = &sc.prepared;
-                full.lane = l;
-                full.allowed = (v.allowed >> l & 1) != 0;
-                if (v.refused >> l & 1) {
-                  full.refused = true;
-                  full.first = v.first[l];
-                }
-                // The guarded visit, with propose()'s result from the kernel.
-                Proposal pr;
-                if (ok) {
-                  pr.ok = true;
-                  pr.target = Vec3(t.x[l], t.y[l], t.z[l]);
-                  pr.normal = Vec3(t.nx[l], t.ny[l], t.nz[l]);
-                  if (denoiseLanes)
-                    pr.fallback = Vec3(t.fx[l], t.fy[l], t.fz[l]);
-                  else
-                    pr.tangentialFallback = true;
-                }
-                sc.laneVisits += visitOne(i, sc, &pr, full);
-                continue;
-              }
-              if (still(i)) {
-                skip(i, sc);  // the kernel's answer is the one recorded last time
-                continue;
-              }
-              const Outcome o = ok ? commitUnguarded(Vec3(t.x[l], t.y[l], t.z[l]), pos[i]) : Outcome::Failed;
-              record(i, o, sc);
-              ++sc.laneVisits;
+            sc.nextSlot.resize(e - b);
+            budget.drift = sc.drift.data();
+            budget.eps = eps;
+            budget.last.point = pointMargin[i];
+            budget.last.slot = slotMargin.data() + b;
+            budget.next.slot = sc.nextSlot.data();
+          };
+          // Keeps the margins of vertex i's accepted move from `from`.
+          const auto commitMargins = [&](int i, const Vec3& from, const Budget& budget) {
+            odo[i] += (pos[i] - from).Norm();
+            pointMargin[i] = budget.next.point;
+            for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k) {
+              slotMargin[k] = budget.next.slot[k - topo.ringBegin[i]];
+              slotOdo[k] = InputSurface::floatBelow(odo[topo.ringIdx[k]]);
             }
           };
-#ifdef _OPENMP
-          if (threads > 1 && lanes::kWidth * ng + nr >= minParallel) {
-#pragma omp parallel num_threads(threads)
-            {
-              Scratch& sc = scratch[omp_get_thread_num()];
-              if (dynamicSchedule) {
-#pragma omp for schedule(dynamic, 16) nowait
-                for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
-#pragma omp for schedule(dynamic, 32)
-                for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr, FullStep());
-              } else {
-#pragma omp for schedule(static) nowait
-                for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
-#pragma omp for schedule(static)
-                for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr, FullStep());
-              }
+          // Visits vertex i, with its proposal when one was computed already;
+          // false when the visit was answered from the previous one.
+          const auto visitOne = [&](int i, Scratch& sc, const Proposal* given, FullStep full) {
+            if (still(i)) {
+              skip(i, sc);
+              return false;
             }
-            continue;
-          }
+            Star& star = sc.star;
+            const int b = topo.ringBegin[i], e = topo.ringBegin[i + 1];
+            star.center = pos[i];
+            star.ring.resize(e - b);
+            for (int k = b; k < e; ++k) star.ring[k - b] = pos[topo.ringIdx[k]];
+            if (!faceNormal.empty()) {
+              star.refNormal.resize(e - b);
+              for (int k = b; k < e; ++k) star.refNormal[k - b] = faceNormal[topo.ringFace[k]];
+            }
+            int* hints = deviationGuard ? slotHint.data() + b : nullptr;
+            Budget budget;
+            if (deviationGuard) prepareBudget(i, sc, budget);
+            const Vec3 from = pos[i];
+            const Outcome o = visitVertex(ctx, i, star, hints, pointHint[i], sc, budget, pos[i], given, full);
+            sc.queried += budget.queried;
+            sc.reused += budget.reused;
+            record(i, o, sc);
+            if (moves(o) && deviationGuard && p.reuseDeviationMargins) commitMargins(i, from, budget);
+            return true;
+          };
+          // withinReach for a vertex the kernel moved, from its ring in pos.
+          const auto laneWithinReach = [&](int i, const Vec3& y) {
+            for (int k = 0; k < 3; ++k)
+              if (!(y[k] >= ctx.boxLo[k] && y[k] <= ctx.boxHi[k])) return false;
+            const double s2 = (y - pos[i]).SquaredNorm();
+            for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k)
+              if (s2 <= (pos[topo.ringIdx[k]] - pos[i]).SquaredNorm()) return true;
+            return false;
+          };
+          // When the margins of vertex i's last move answer the deviation test
+          // of its move to y with no distance query, commits the move as the
+          // visit would (InputSurface::keepsByMargins); false, with nothing
+          // changed, otherwise: the visit then runs in full.
+          const auto laneKeeps = [&](int i, const Vec3& y, Scratch& sc) {
+            Budget budget;
+            prepareBudget(i, sc, budget);
+            const double step = (y - pos[i]).Norm() + budget.eps;
+            if (!input.keepsByMargins(i, sc.drift.size(), step, budget.drift, budget.last, budget.next, sc.reused))
+              return false;
+            const Vec3 from = pos[i];
+            pos[i] = y;
+            record(i, Outcome::Moved, sc);
+            commitMargins(i, from, budget);
+            return true;
+          };
+          if (useLanes) {
+            // Four vertices of equal valence per kernel call, then the rest
+            // one by one: all of one colour, so the order does not matter.
+            const int g0 = lanePlan.groupBegin[c], ng = lanePlan.groupBegin[c + 1] - g0;
+            const int* rest = lanePlan.rest.data() + lanePlan.restBegin[c];
+            const int nr = lanePlan.restBegin[c + 1] - lanePlan.restBegin[c];
+            const auto visitGroup = [&](int g, Scratch& sc) {
+#if defined(__GNUC__) || defined(__clang__)
+              // (Here, not in a function of its own: GCC takes a function that
+              // only prefetches for one without effects and drops its calls.)
+              if (g + kPrefetchGroups < g0 + ng) {
+                const int ahead = g + kPrefetchGroups;
+                const int* table = lanePlan.table.data() + lanePlan.tableBegin[ahead];
+                const int entries = lanes::kWidth * (lanePlan.valence[ahead] + 1);
+                for (int e = 0; e < entries; ++e) __builtin_prefetch(&pos[0][0] + table[e]);
+                // The deviation guard's margins and path lengths.
+                if (laneMargins) {
+                  for (int e = 0; e < entries; ++e) __builtin_prefetch(&odo[table[e] / 3]);
+                  const int* va = lanePlan.vertex.data() + lanes::kWidth * ahead;
+                  for (int l = 0; l < lanes::kWidth; ++l) {
+                    __builtin_prefetch(&slotMargin[topo.ringBegin[va[l]]]);
+                    __builtin_prefetch(&slotOdo[topo.ringBegin[va[l]]]);
+                  }
+                }
+                // The guard reads the input normals of the ring's faces.
+                if (prefetchFaces) {
+                  const int* va = lanePlan.vertex.data() + lanes::kWidth * ahead;
+                  for (int l = 0; l < lanes::kWidth; ++l)
+                    for (int k = topo.ringBegin[va[l]]; k < topo.ringBegin[va[l] + 1]; ++k)
+                      __builtin_prefetch(&faceNormal[topo.ringFace[k]]);
+                }
+              }
 #endif
-          for (int g = 0; g < ng; ++g) visitGroup(g0 + g, scratch[0]);
-          for (int j = 0; j < nr; ++j) visitOne(rest[j], scratch[0], nullptr, FullStep());
-          continue;
-        }
-        const int* vs = plan.order.data() + plan.phaseBegin[c];
-        const int n = plan.phaseBegin[c + 1] - plan.phaseBegin[c];
+              const int* vs = lanePlan.vertex.data() + lanes::kWidth * g;
+              lanes::Targets t;
+              // The full-step test (see likelyNeeded).
+              int likely = 0;
+              if (laneGuard)
+                for (int l = 0; l < lanes::kWidth; ++l) likely += lastOutcome[vs[l]] == Outcome::Moved;
+              lanes::StepVerdict v;
+              lanes::targets4(&pos[0][0], lanePlan.table.data() + lanePlan.tableBegin[g], lanePlan.valence[g], t,
+                              lanePrepare ? &laneGuardInput : nullptr, likely >= likelyNeeded ? &v : nullptr,
+                              lanePrepare ? &sc.prepared : nullptr, denoiseLanes ? &laneDenoise : nullptr);
+              if (likely < likelyNeeded) v.allowed = v.refused = 0;
+              for (int l = 0; l < lanes::kWidth; ++l) {
+                const int i = vs[l];
+                const bool ok = (t.ok >> l & 1) != 0;
+                if (p.guard != Guard::None) {
+                  if ((v.allowed >> l & 1) && laneWithinReach(i, Vec3(v.x[l], v.y[l], v.z[l]))) {
+                    // The visit moves the vertex by the full step when nothing
+                    // else is to be tested: no deviation bound, or margins that
+                    // answer it. It cannot be one still() would answer: that
+                    // visit, on the same star with the same margins, did not
+                    // move the vertex.
+                    const Vec3 y(v.x[l], v.y[l], v.z[l]);
+                    if (!deviationGuard) {
+                      pos[i] = y;
+                      record(i, Outcome::Moved, sc);
+                      ++sc.laneVisits;
+                      continue;
+                    }
+                    if (laneKeeps(i, y, sc)) {
+                      ++sc.laneVisits;
+                      continue;
+                    }
+                  }
+                  FullStep full;
+                  full.prepared = &sc.prepared;
+                  full.lane = l;
+                  full.allowed = (v.allowed >> l & 1) != 0;
+                  if (v.refused >> l & 1) {
+                    full.refused = true;
+                    full.first = v.first[l];
+                  }
+                  // The guarded visit, with propose()'s result from the kernel.
+                  Proposal pr;
+                  if (ok) {
+                    pr.ok = true;
+                    pr.target = Vec3(t.x[l], t.y[l], t.z[l]);
+                    pr.normal = Vec3(t.nx[l], t.ny[l], t.nz[l]);
+                    if (denoiseLanes)
+                      pr.fallback = Vec3(t.fx[l], t.fy[l], t.fz[l]);
+                    else
+                      pr.tangentialFallback = true;
+                  }
+                  sc.laneVisits += visitOne(i, sc, &pr, full);
+                  continue;
+                }
+                if (still(i)) {
+                  skip(i, sc);  // the kernel's answer is the one recorded last time
+                  continue;
+                }
+                const Outcome o = ok ? commitUnguarded(Vec3(t.x[l], t.y[l], t.z[l]), pos[i]) : Outcome::Failed;
+                record(i, o, sc);
+                ++sc.laneVisits;
+              }
+            };
 #ifdef _OPENMP
-        if (threads > 1 && n >= minParallel) {
-          if (dynamicSchedule) {
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 32)
-            for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr, FullStep());
-          } else {
-#pragma omp parallel for num_threads(threads) schedule(static)
-            for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr, FullStep());
-          }
-          continue;
-        }
+            if (parallel && lanes::kWidth * ng + nr >= minParallel) {
+#pragma omp parallel num_threads(threads)
+              {
+                Scratch& sc = scratch[omp_get_thread_num()];
+                if (dynamicSchedule) {
+#pragma omp for schedule(dynamic, 16) nowait
+                  for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
+#pragma omp for schedule(dynamic, 32)
+                  for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr, FullStep());
+                } else {
+#pragma omp for schedule(static) nowait
+                  for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc);
+#pragma omp for schedule(static)
+                  for (int j = 0; j < nr; ++j) visitOne(rest[j], sc, nullptr, FullStep());
+                }
+              }
+              return;
+            }
 #endif
-        for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[0], nullptr, FullStep());
+            for (int g = 0; g < ng; ++g) visitGroup(g0 + g, sc0);
+            for (int j = 0; j < nr; ++j) visitOne(rest[j], sc0, nullptr, FullStep());
+            return;
+          }
+          const int* vs = plan.order.data() + plan.phaseBegin[c];
+          const int n = plan.phaseBegin[c + 1] - plan.phaseBegin[c];
+#ifdef _OPENMP
+          if (parallel && n >= minParallel) {
+            if (dynamicSchedule) {
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 32)
+              for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr, FullStep());
+            } else {
+#pragma omp parallel for num_threads(threads) schedule(static)
+              for (int j = 0; j < n; ++j) visitOne(vs[j], scratch[omp_get_thread_num()], nullptr, FullStep());
+            }
+            return;
+          }
+#endif
+          for (int j = 0; j < n; ++j) visitOne(vs[j], sc0, nullptr, FullStep());
+      };
+      const std::size_t phases = plan.phaseBegin.size() - 1;
+#ifdef _OPENMP
+      const std::size_t planTiles = plan.tileBegin.empty() ? 0 : plan.tileBegin.size() - 1;
+      if (threads > 1 && planTiles >= static_cast<std::size_t>(kMinParallelTiles) * threads) {
+        // Tile by tile on each thread, the tiles of a group at once (see
+        // SweepPlan): a wait per group, not per phase.
+        for (std::size_t g = 0; g + 1 < plan.groupBegin.size(); ++g) {
+          const int t0 = plan.groupBegin[g], nt = plan.groupBegin[g + 1] - t0;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+          for (int t = 0; t < nt; ++t) {
+            Scratch& sc = scratch[omp_get_thread_num()];
+            for (int c = plan.tileBegin[t0 + t]; c < plan.tileBegin[t0 + t + 1]; ++c)
+              runPhase(static_cast<std::size_t>(c), sweepBase + c, sc, false);
+          }
+        }
+      } else
+#endif
+      {
+        for (std::size_t c = 0; c < phases; ++c) runPhase(c, sweepBase + static_cast<int>(c), scratch[0], threads > 1);
       }
+      phase = sweepBase + static_cast<int>(phases);
       ++stats.iterations;
       if (p.flips) {
         int flipped = 0;
@@ -839,6 +865,10 @@ struct SodtSmoother {
   /// as much as unguarded ones, so their phases are split from fewer.
   static constexpr int kMinParallelPhase = 512;
   static constexpr int kMinParallelGuardedPhase = 128;
+  /// Tiled sweeps go tile by tile on each thread, the tiles of a group at
+  /// once, when there are this many tiles per thread; fewer tiles are swept
+  /// one after the other, each phase split between the threads.
+  static constexpr int kMinParallelTiles = 4;
 
   /// Guarded sweeps go through the mesh in tiles of this many consecutive
   /// working indices (breadth-first order), colour by colour within each

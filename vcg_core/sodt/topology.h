@@ -295,6 +295,14 @@ inline RingTopology buildRingTopology(const FaceList& faces, const std::vector<c
 struct SweepPlan {
   std::vector<int> order;
   std::vector<int> phaseBegin;  ///< phase p is order[phaseBegin[p] .. phaseBegin[p + 1])
+  /// With tiles: tile t (in plan order) is phases tileBegin[t] ..
+  /// tileBegin[t + 1], and group g is tiles groupBegin[g] ..
+  /// groupBegin[g + 1]. No vertex of a tile has a ring neighbour in another
+  /// tile of its group, so the tiles of a group can be swept at once, each
+  /// phase by phase, with the result of sweeping them one after the other.
+  /// Empty without tiles.
+  std::vector<int> tileBegin;
+  std::vector<int> groupBegin;
 };
 
 /// Plans a sweep of the given vertices. They are coloured greedily (in
@@ -305,7 +313,13 @@ struct SweepPlan {
 /// consecutive indices and each phase is one colour within one tile, tile by
 /// tile: when indices follow the surface (breadth-first order), a sweep then
 /// works on one tile's data at a time instead of crossing the whole mesh once
-/// per colour. Within a phase, ascending index; empty phases are left out.
+/// per colour. The tiles are coloured too (greedily in index order; two
+/// tiles are adjacent when a vertex of one is a ring neighbour of a vertex
+/// of the other), and go group by group, one group per tile colour, in
+/// index order within a group: the tiles of a group can then be swept in
+/// parallel with a wait only between groups, where one wait per phase made
+/// a thread held up by another program stall the others thousands of times
+/// per sweep. Within a phase, ascending index; empty phases are left out.
 /// Deterministic.
 inline SweepPlan colourVertices(const RingTopology& topo, const std::vector<int>& vertices, int tile = 0) {
   const int nv = static_cast<int>(topo.kind.size());
@@ -325,21 +339,84 @@ inline SweepPlan colourVertices(const RingTopology& topo, const std::vector<int>
     }
     colour[v] = c;
   }
-  // Phase key of a vertex: its tile, then its colour.
   const std::size_t tiles = tile > 0 ? static_cast<std::size_t>(nv) / tile + 1 : 1;
+  // The tiles' colours, and their places in plan order: by colour, then
+  // index.
+  std::vector<int> tileColour(tiles, 0);
+  std::vector<std::size_t> tileRank(tiles, 0);
+  if (tile > 0) {
+    std::vector<char> member(nv, 0);
+    for (int v : vertices) member[v] = 1;
+    std::fill(tileColour.begin(), tileColour.end(), -1);
+    std::vector<int> seenTile;  // seenTile[c] == t: tile colour c is taken by a neighbour of tile t
+    int tileColours = 0;
+    std::vector<int> sorted(vertices);
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t i = 0; i < sorted.size();) {
+      const std::size_t t = static_cast<std::size_t>(sorted[i] / tile);
+      std::size_t j = i;
+      for (; j < sorted.size() && static_cast<std::size_t>(sorted[j] / tile) == t; ++j) {
+        const int v = sorted[j];
+        for (int k = topo.ringBegin[v]; k < topo.ringBegin[v + 1]; ++k) {
+          const int u = topo.ringIdx[k];
+          if (!member[u] || static_cast<std::size_t>(u / tile) == t) continue;
+          const int c = tileColour[u / tile];
+          if (c >= 0) seenTile[c] = static_cast<int>(t);
+        }
+      }
+      int c = 0;
+      while (c < tileColours && seenTile[c] == static_cast<int>(t)) ++c;
+      if (c == tileColours) {
+        ++tileColours;
+        seenTile.push_back(-1);
+      }
+      tileColour[t] = c;
+      i = j;
+    }
+    std::vector<std::size_t> count(tileColours + 1, 0);
+    for (std::size_t k = 0; k < tiles; ++k)
+      if (tileColour[k] >= 0) ++count[tileColour[k] + 1];
+    for (int c = 0; c < tileColours; ++c) count[c + 1] += count[c];
+    for (std::size_t k = 0; k < tiles; ++k)
+      if (tileColour[k] >= 0) tileRank[k] = count[tileColour[k]]++;
+  }
+  // Phase key of a vertex: its tile's place, then its colour.
   const auto key = [&](int v) {
-    return (tile > 0 ? static_cast<std::size_t>(v / tile) * colours : 0) + static_cast<std::size_t>(colour[v]);
+    return (tile > 0 ? tileRank[static_cast<std::size_t>(v / tile)] * colours : 0) + static_cast<std::size_t>(colour[v]);
   };
   std::vector<int> start(tiles * colours + 1, 0);
   for (int v : vertices) ++start[key(v) + 1];
   SweepPlan plan;
   plan.phaseBegin.push_back(0);
+  int lastTile = -1, lastGroup = -1;
   for (std::size_t k = 0; k + 1 < start.size(); ++k) {
-    if (start[k + 1] > 0) plan.phaseBegin.push_back(plan.phaseBegin.back() + start[k + 1]);
+    if (start[k + 1] > 0) {
+      if (tile > 0) {
+        const int rank = static_cast<int>(k / colours);
+        if (rank != lastTile) {
+          plan.tileBegin.push_back(static_cast<int>(plan.phaseBegin.size()) - 1);
+          lastTile = rank;
+        }
+      }
+      plan.phaseBegin.push_back(plan.phaseBegin.back() + start[k + 1]);
+    }
     start[k + 1] += start[k];
   }
   plan.order.resize(vertices.size());
   for (int v : vertices) plan.order[start[key(v)]++] = v;
+  if (tile > 0) {
+    plan.tileBegin.push_back(static_cast<int>(plan.phaseBegin.size()) - 1);
+    // Groups: runs of tiles of one colour, in plan order.
+    for (std::size_t t = 0; t + 1 < plan.tileBegin.size(); ++t) {
+      const int first = plan.order[plan.phaseBegin[plan.tileBegin[t]]];
+      const int g = tileColour[static_cast<std::size_t>(first / tile)];
+      if (g != lastGroup) {
+        plan.groupBegin.push_back(static_cast<int>(t));
+        lastGroup = g;
+      }
+    }
+    plan.groupBegin.push_back(static_cast<int>(plan.tileBegin.size()) - 1);
+  }
   return plan;
 }
 
