@@ -4,8 +4,8 @@
 # smooths it once, measuring time per phase, peak memory and file sizes.
 # Not part of the test suite (it takes minutes and a few GB of RAM).
 #
-# Usage: bench/large_input.sh [--build DIR] [--work DIR] [--subdiv N]
-#                             [--iterations N] [--keep]
+# Usage: bench/large_input.sh [--build DIR] [--work DIR] [--subdiv N | --frequency N]
+#                             [--iterations N] [--busy N] [--keep]
 #   --build DIR       build tree with cli/sodt and bench/sodt_make_big_sphere
 #                     (default: build/ next to this folder); both targets are
 #                     built there first if missing
@@ -13,11 +13,15 @@
 #                     temporary directory, removed at the end unless --keep)
 #   --subdiv N        icosphere level (default 9: 2,621,442 vertices,
 #                     5,242,880 faces)
+#   --frequency N     geodesic sphere of frequency N instead (724: 5,241,762
+#                     vertices, 10,483,520 faces)
 #   --iterations N    sweeps (default 5)
+#   --busy N          keep N other processes spinning on the CPU during the
+#                     run, as on a shared machine (default 0)
 #   --keep            keep the work directory
 #
 # What runs:
-#   sodt_make_big_sphere BIG.ply --subdiv N
+#   sodt_make_big_sphere BIG.ply --subdiv N  (or --frequency N)
 #   /usr/bin/time -v sodt smooth BIG.ply OUT.ply --iterations N --report R.json
 # The smoother runs under `script`, which gives it a pseudo-terminal: the CLI
 # draws its progress bar only on a terminal. Every '\r'-separated update of
@@ -31,6 +35,8 @@ HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 BUILD="$HERE/../build"
 WORK=""
 SUBDIV=9
+FREQ=""
+BUSY=0
 ITER=5
 KEEP=0
 while [ $# -gt 0 ]; do
@@ -38,14 +44,24 @@ while [ $# -gt 0 ]; do
     --build) BUILD="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
     --subdiv) SUBDIV="$2"; shift 2 ;;
+    --frequency) FREQ="$2"; shift 2 ;;
+    --busy) BUSY="$2"; shift 2 ;;
     --iterations) ITER="$2"; shift 2 ;;
     --keep) KEEP=1; shift ;;
-    -h|--help) sed -n '3,28p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '3,33p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
 
 die() { echo "error: $*" >&2; exit 1; }
+BUSY_PIDS=()
+RM_WORK=0
+cleanup() {
+  [ "${#BUSY_PIDS[@]}" -gt 0 ] && kill "${BUSY_PIDS[@]}" 2>/dev/null
+  [ "$RM_WORK" -eq 1 ] && rm -rf "$WORK"
+  return 0
+}
+trap cleanup EXIT
 SODT="$BUILD/cli/sodt"
 GEN="$BUILD/bench/sodt_make_big_sphere"
 if [ ! -x "$SODT" ] || [ ! -x "$GEN" ]; then
@@ -57,7 +73,7 @@ grep -q '^CMAKE_BUILD_TYPE:STRING=Release' "$BUILD/CMakeCache.txt" 2>/dev/null \
 
 if [ -z "$WORK" ]; then
   WORK="$(mktemp -d "${TMPDIR:-/tmp}/sodt-large.XXXXXX")" || die "mktemp failed"
-  [ "$KEEP" -eq 1 ] || trap 'rm -rf "$WORK"' EXIT
+  [ "$KEEP" -eq 1 ] || RM_WORK=1
 else
   mkdir -p "$WORK" || die "cannot create $WORK"
 fi
@@ -77,9 +93,15 @@ echo "work directory: $WORK"
 
 # 1. The input.
 echo
-echo "== generating BIG.ply (icosphere level $SUBDIV) =="
+SHAPE="icosphere level $SUBDIV"
+GEN_ARGS=(--subdiv "$SUBDIV")
+if [ -n "$FREQ" ]; then
+  SHAPE="geodesic sphere of frequency $FREQ"
+  GEN_ARGS=(--frequency "$FREQ")
+fi
+echo "== generating BIG.ply ($SHAPE) =="
 T0="$(now)"
-"$GEN" "$BIG" --subdiv "$SUBDIV" || die "generator failed"
+"$GEN" "$BIG" "${GEN_ARGS[@]}" || die "generator failed"
 GEN_S="$(sub "$(now)" "$T0")"
 BIG_BYTES="$(stat -c %s "$BIG")"
 
@@ -108,6 +130,12 @@ if [ "$HAVE_TIME" -eq 0 ]; then
   ) &
   POLLER=$!
 fi
+# Other programs on the CPU, if asked: busy loops, stopped at the end.
+for _ in $(seq "$BUSY"); do
+  ( while :; do :; done ) &
+  BUSY_PIDS+=($!)
+done
+[ "$BUSY" -gt 0 ] && echo "($BUSY busy loops running beside the smoother)"
 echo
 echo "== ${CMD[*]} =="
 : >"$TTY"
@@ -142,6 +170,8 @@ else
   RC=${PIPESTATUS[0]}
 fi
 WALL_S="$(sub "$(now)" "$T0")"
+[ "${#BUSY_PIDS[@]}" -gt 0 ] && kill "${BUSY_PIDS[@]}" 2>/dev/null
+BUSY_PIDS=()
 [ "$RC" -eq 0 ] || die "sodt smooth exited with status $RC$( [ "$RC" -eq 137 ] && echo ' (killed: out of memory?)')"
 [ -s "$OUT" ] && [ -s "$REPORT" ] || die "no output or report written"
 
@@ -172,7 +202,8 @@ V="$(json vertices)" F="$(json faces)"
 
 echo
 echo "== large input: results =="
-printf '  %-22s %s\n' "input" "$V vertices, $F faces (icosphere level $SUBDIV, jittered, closed)"
+printf '  %-22s %s\n' "input" "$V vertices, $F faces ($SHAPE, jittered, closed)"
+[ "$BUSY" -gt 0 ] && printf '  %-22s %s\n' "busy loops" "$BUSY beside the run"
 printf '  %-22s %s\n' "BIG.ply" "$(mb "$BIG_BYTES") ($BIG_BYTES bytes, binary PLY), generated in ${GEN_S} s"
 printf '  %-22s %s\n' "OUT.ply" "$(mb "$OUT_BYTES") ($OUT_BYTES bytes)"
 printf '  %-22s %s\n' "load" "$(span "$t_load" "$t_meas") s"

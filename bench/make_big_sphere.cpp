@@ -2,10 +2,13 @@
 // Large-input generator for bench/large_input.sh: a closed, consistently
 // oriented, tangentially jittered icosphere written as binary PLY.
 //
-//   sodt_make_big_sphere OUT.ply [--subdiv N] [--jitter F] [--seed S]
+//   sodt_make_big_sphere OUT.ply [--subdiv N | --frequency N] [--jitter F] [--seed S]
 //
 // Subdivision level N (default 9) gives 10*4^N + 2 vertices and 20*4^N faces:
 // N = 9 is 2,621,442 vertices and 5,242,880 faces (about 97 MB of PLY).
+// --frequency N makes the geodesic sphere of frequency N instead (the same
+// counts as level k for N = 2^k, and any size between): 724 gives 10,483,520
+// faces.
 // Every vertex then moves in the sphere's tangent plane by up to F (default
 // 0.45, as meshes/sphere_jitter.ply) times the mean edge length, uniformly in
 // a disc, and is projected back on the unit sphere. A face that would turn
@@ -81,6 +84,58 @@ void subdivide(std::vector<V3>& v, std::vector<Tri>& f) {
   f.swap(out);
 }
 
+/// Geodesic sphere of frequency n (class I): each icosahedron face split
+/// into n^2 triangles by a triangular lattice, every lattice point pushed
+/// onto the sphere; 10 n^2 + 2 vertices and 20 n^2 faces (n = 2^k is
+/// subdivision level k). Lattice points on an edge or a corner of the
+/// icosahedron are shared by the faces that meet there.
+void geodesic(int n, std::vector<V3>& v, std::vector<Tri>& f) {
+  std::vector<V3> ico;
+  std::vector<Tri> faces;
+  icosahedron(ico, faces);
+  v = ico;
+  f.clear();
+  f.reserve(std::size_t(20) * n * n);
+  // Interior points of each edge, from its lower-numbered corner on.
+  std::unordered_map<std::uint64_t, std::uint32_t> edgeStart;
+  const auto edgePoint = [&](std::uint32_t a, std::uint32_t b, int k) -> std::uint32_t {
+    if (k == 0) return a;
+    if (k == n) return b;
+    const bool flip = a > b;
+    const std::uint32_t lo = flip ? b : a, hi = flip ? a : b;
+    const int at = flip ? n - k : k;
+    const std::uint64_t key = (std::uint64_t(lo) << 32) | hi;
+    auto it = edgeStart.find(key);
+    if (it == edgeStart.end()) {
+      it = edgeStart.emplace(key, static_cast<std::uint32_t>(v.size())).first;
+      for (int j = 1; j < n; ++j) v.push_back(normalized(ico[lo] * double(n - j) + ico[hi] * double(j)));
+    }
+    return it->second + std::uint32_t(at - 1);
+  };
+  std::vector<std::uint32_t> row, next;
+  for (const Tri& t : faces) {
+    // Lattice point (i, j), i + j <= n: A + (B - A) i / n + (C - A) j / n.
+    const auto point = [&](int i, int j) -> std::uint32_t {
+      if (j == 0) return edgePoint(t[0], t[1], i);
+      if (i == 0) return edgePoint(t[0], t[2], j);
+      if (i + j == n) return edgePoint(t[1], t[2], j);
+      v.push_back(normalized(ico[t[0]] * double(n - i - j) + ico[t[1]] * double(i) + ico[t[2]] * double(j)));
+      return static_cast<std::uint32_t>(v.size() - 1);
+    };
+    row.clear();
+    for (int i = 0; i <= n; ++i) row.push_back(point(i, 0));
+    for (int j = 1; j <= n; ++j) {
+      next.clear();
+      for (int i = 0; i + j <= n; ++i) next.push_back(point(i, j));
+      for (int i = 0; i + j <= n; ++i) {
+        f.push_back({row[i], row[i + 1], next[i]});
+        if (i + 1 + j <= n) f.push_back({row[i + 1], next[i + 1], next[i]});
+      }
+      row.swap(next);
+    }
+  }
+}
+
 /// Smallest corner angle of (a, b, c) in degrees.
 double minAngleDeg(V3 a, V3 b, V3 c) {
   const V3 p[3] = {a, b, c};
@@ -144,9 +199,11 @@ bool writePly(const std::string& path, const std::vector<V3>& v, const std::vect
 
 int usage(int status) {
   std::fprintf(status ? stderr : stdout,
-               "usage: sodt_make_big_sphere OUT.ply [--subdiv N] [--jitter F] [--seed S]\n"
-               "  --subdiv N   icosphere subdivision level 0..10 (default 9: 2,621,442 vertices,\n"
-               "               5,242,880 faces)\n"
+               "usage: sodt_make_big_sphere OUT.ply [--subdiv N | --frequency N] [--jitter F] [--seed S]\n"
+               "  --subdiv N     icosphere subdivision level 0..10 (default 9: 2,621,442 vertices,\n"
+               "                 5,242,880 faces)\n"
+               "  --frequency N  geodesic sphere of frequency 1..2048 instead: 10 N^2 + 2 vertices,\n"
+               "                 20 N^2 faces (724: 5,241,762 vertices, 10,483,520 faces)\n"
                "  --jitter F   largest tangential move / mean edge length, 0..1 (default 0.45)\n"
                "  --seed S     random seed (default 20202)\n");
   return status;
@@ -157,15 +214,17 @@ int usage(int status) {
 int main(int argc, char** argv) {
   std::string outPath;
   int subdiv = 9;
+  int frequency = 0;
   double jitter = 0.45;
   unsigned long seed = 20202;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") return usage(0);
-    if ((a == "--subdiv" || a == "--jitter" || a == "--seed") && i + 1 < argc) {
+    if ((a == "--subdiv" || a == "--frequency" || a == "--jitter" || a == "--seed") && i + 1 < argc) {
       char* end = nullptr;
       const char* s = argv[++i];
       if (a == "--subdiv") subdiv = int(std::strtol(s, &end, 10));
+      if (a == "--frequency") frequency = int(std::strtol(s, &end, 10));
       if (a == "--jitter") jitter = std::strtod(s, &end);
       if (a == "--seed") seed = std::strtoul(s, &end, 10);
       if (!end || *end) return usage(2);
@@ -175,13 +234,19 @@ int main(int argc, char** argv) {
       return usage(2);
     }
   }
-  if (outPath.empty() || subdiv < 0 || subdiv > 10 || !(jitter >= 0 && jitter <= 1)) return usage(2);
+  if (outPath.empty() || subdiv < 0 || subdiv > 10 || frequency < 0 || frequency > 2048 ||
+      !(jitter >= 0 && jitter <= 1))
+    return usage(2);
 
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<V3> v;
   std::vector<Tri> f;
-  icosahedron(v, f);
-  for (int s = 0; s < subdiv; ++s) subdivide(v, f);
+  if (frequency > 0) {
+    geodesic(frequency, v, f);
+  } else {
+    icosahedron(v, f);
+    for (int s = 0; s < subdiv; ++s) subdivide(v, f);
+  }
 
   // Mean edge length (each interior edge counted twice: same mean).
   double sum = 0;
@@ -229,8 +294,12 @@ int main(int argc, char** argv) {
   if (!writePly(outPath, v, f)) return 1;
   const double allSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("sodt_make_big_sphere: %s\n", outPath.c_str());
-  std::printf("  subdivision %d: %zu vertices, %zu faces, mean edge %.3g (unit sphere)\n", subdiv, v.size(),
-              f.size(), h);
+  if (frequency > 0)
+    std::printf("  frequency %d: %zu vertices, %zu faces, mean edge %.3g (unit sphere)\n", frequency, v.size(),
+                f.size(), h);
+  else
+    std::printf("  subdivision %d: %zu vertices, %zu faces, mean edge %.3g (unit sphere)\n", subdiv, v.size(),
+                f.size(), h);
   std::printf("  jitter %.2f x mean edge, seed %lu; %zu vertices reverted by the veto\n", jitter, seed, reverted);
   std::printf("  smallest angle %.3f deg; %.2f%% of the triangles have a corner below 30 deg\n", minAngle,
               100.0 * double(below30) / double(f.size()));
