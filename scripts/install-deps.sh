@@ -25,7 +25,7 @@ PACKAGES=(
   ninja-build libglu1-mesa-dev pybind11-dev python3-dev python3-numpy python3-pytest
 )
 
-if [ "$(id -u)" -eq 0 ]; then
+if [ "$(id -u)" -eq 0 ] || [ "${SODT_APT_SOURCES_ONLY:-0}" = 1 ]; then
   SUDO=()
 elif command -v sudo >/dev/null 2>&1; then
   SUDO=(sudo)
@@ -36,11 +36,16 @@ fi
 
 log() { printf '[install-deps] %s\n' "$*"; }
 
-# apt-get source needs a deb-src line for bookworm. Add one in a file of our
-# own instead of editing the system's sources when none is configured.
+# apt-get source needs a deb-src line for bookworm. When none is configured,
+# one is added in a file of our own (the system's sources are left alone),
+# made from the system's own `deb` entries for bookworm: the same mirrors,
+# suites, components and keys, so it works with any mirror. For the tests of
+# this script: SODT_APT_DIR points at another tree than /etc/apt, and
+# SODT_APT_SOURCES_ONLY=1 stops after this step (no root needed).
+APT_DIR="${SODT_APT_DIR:-/etc/apt}"
 has_deb_src() {
-  grep -rqsE '^[[:space:]]*deb-src[[:space:]].*bookworm' /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null && return 0
-  for f in /etc/apt/sources.list.d/*.sources; do
+  grep -qsE '^[[:space:]]*deb-src[[:space:]].*bookworm' "$APT_DIR/sources.list" "$APT_DIR"/sources.list.d/*.list 2>/dev/null && return 0
+  for f in "$APT_DIR"/sources.list.d/*.sources; do
     [ -e "$f" ] || continue
     # deb822: a stanza whose Types contain deb-src and whose Suites contain bookworm
     awk 'BEGIN{RS="";FS="\n"} /Types:[^\n]*deb-src/ && /Suites:[^\n]*bookworm/ {found=1} END{exit !found}' "$f" && return 0
@@ -48,18 +53,66 @@ has_deb_src() {
   return 1
 }
 
+# deb_src_stanzas: prints deb822 deb-src stanzas mirroring every enabled `deb`
+# entry for a bookworm suite, from one-line .list files and deb822 .sources
+# files alike; nothing when there is none.
+deb_src_stanzas() {
+  local f
+  for f in "$APT_DIR/sources.list" "$APT_DIR"/sources.list.d/*.list; do
+    [ -e "$f" ] || continue
+    # deb [opt=value ...] URI SUITE COMPONENT...
+    awk '
+      /^[[:space:]]*deb[[:space:]]/ {
+        sub(/^[[:space:]]*deb[[:space:]]+/, "")
+        key = ""
+        if ($0 ~ /^\[/) {
+          opts = substr($0, 2, index($0, "]") - 2)
+          $0 = substr($0, index($0, "]") + 1)
+          n = split(opts, o, /[[:space:]]+/)
+          for (i = 1; i <= n; ++i) if (o[i] ~ /^signed-by=/) key = substr(o[i], 11)
+        }
+        if (NF < 3 || $2 !~ /^bookworm/) next
+        comps = $3
+        for (i = 4; i <= NF; ++i) comps = comps " " $i
+        printf "Types: deb-src\nURIs: %s\nSuites: %s\nComponents: %s\n", $1, $2, comps
+        if (key != "") printf "Signed-By: %s\n", key
+        printf "\n"
+      }' "$f"
+  done
+  for f in "$APT_DIR"/sources.list.d/*.sources; do
+    [ -e "$f" ] || continue
+    case "$f" in */sodt-deb-src.sources) continue ;; esac
+    # A stanza with Types deb, a bookworm suite and not Enabled: no: the
+    # same stanza with Types deb-src (comment lines dropped).
+    awk 'BEGIN { RS = ""; FS = "\n" }
+      {
+        types = ""; suites = ""; enabled = "yes"; out = ""
+        for (i = 1; i <= NF; ++i) {
+          line = $i
+          if (line ~ /^[[:space:]]*#/) continue
+          if (line ~ /^Types:/) { types = line; continue }
+          if (line ~ /^Suites:/) suites = line
+          if (line ~ /^Enabled:/) { enabled = tolower(line); sub(/^enabled:[[:space:]]*/, "", enabled) }
+          out = out line "\n"
+        }
+        if (types ~ /[[:space:]]deb([[:space:]]|$)/ && suites ~ /bookworm/ && enabled != "no")
+          printf "Types: deb-src\n%s\n", out
+      }' "$f"
+  done
+}
+
 need_update=0
 if ! has_deb_src; then
-  log "no deb-src for bookworm configured: adding /etc/apt/sources.list.d/sodt-deb-src.sources"
-  printf '%s\n' \
-    'Types: deb-src' \
-    'URIs: http://deb.debian.org/debian' \
-    'Suites: bookworm bookworm-updates' \
-    'Components: main' \
-    'Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg' |
-    "${SUDO[@]}" tee /etc/apt/sources.list.d/sodt-deb-src.sources >/dev/null
+  stanzas="$(deb_src_stanzas)"
+  if [ -z "$stanzas" ]; then
+    echo "install-deps.sh: no deb entry for bookworm in $APT_DIR/sources.list*; add the Debian 12 archive first" >&2
+    exit 1
+  fi
+  log "no deb-src for bookworm configured: adding $APT_DIR/sources.list.d/sodt-deb-src.sources from the system's deb entries"
+  printf '%s\n' "$stanzas" | "${SUDO[@]}" tee "$APT_DIR/sources.list.d/sodt-deb-src.sources" >/dev/null
   need_update=1
 fi
+[ "${SODT_APT_SOURCES_ONLY:-0}" = 1 ] && exit 0
 
 missing=()
 for p in "${PACKAGES[@]}"; do
