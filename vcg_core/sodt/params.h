@@ -60,7 +60,7 @@ inline void checkMeshSize(double diagonal) {
 }
 
 /// Parameters of one smoothing run. Defaults live here only; the plugin dialog,
-/// the CLI help and the README table are derived from SodtParams{}.
+/// the CLI help and the table of docs/parameters.md follow SodtParams{}.
 struct SodtParams {
   Algorithm algorithm = Algorithm::Basic;
   int iterations = 20;           ///< number of Gauss-Seidel sweeps over all vertices
