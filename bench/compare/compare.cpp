@@ -474,15 +474,31 @@ bool MeshLabServer::start(const MeshLabConfig& cfg, const std::string& workDir, 
   return true;
 }
 
+namespace {
+
+/// path relative to the working directory when it lies below it (the report
+/// is generated from the repository root and must not name this machine's
+/// folders), else path as it is.
+std::string belowWorkingDir(const std::string& path) {
+  char buf[4096];
+  if (!::getcwd(buf, sizeof buf)) return path;
+  const std::string cwd = std::string(buf) + "/";
+  return path.compare(0, cwd.size(), cwd) == 0 ? path.substr(cwd.size()) : path;
+}
+
+}  // namespace
+
 std::string MeshLabServer::describe() const {
   const Impl& I = *impl_;
   std::ostringstream o;
   if (I.privatePrefix)
-    o << "private prefix " << I.prefix << " (a copy of " << (I.cfg.server.empty() ? "/usr/bin/meshlabserver" : I.cfg.server)
-      << ", " << I.linkedPlugins << " system plugins linked from " << I.cfg.libDir << "/plugins, "
-      << (I.plugin ? "the freshly built " + I.cfg.plugin : std::string("no S-ODT plugin")) << ")";
+    o << "private prefix " << belowWorkingDir(I.prefix) << " (a copy of "
+      << (I.cfg.server.empty() ? "/usr/bin/meshlabserver" : belowWorkingDir(I.cfg.server)) << ", " << I.linkedPlugins
+      << " system plugins linked from " << I.cfg.libDir << "/plugins, "
+      << (I.plugin ? "the freshly built " + belowWorkingDir(I.cfg.plugin) : std::string("no S-ODT plugin")) << ")";
   else
-    o << "prefix " << I.prefix << " as given" << (I.plugin ? " (with libfilter_sodt.so)" : " (no S-ODT plugin)");
+    o << "prefix " << belowWorkingDir(I.prefix) << " as given"
+      << (I.plugin ? " (with libfilter_sodt.so)" : " (no S-ODT plugin)");
   o << "; display " << (I.xvfb.display().empty() ? std::string("by xvfb-run -a") : "Xvfb " + I.xvfb.display());
   return o.str();
 }
