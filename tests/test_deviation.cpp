@@ -260,6 +260,24 @@ std::vector<int> twoRingOf(const sodt::RingTopology& T, int v) {
   return faces;
 }
 
+/// The input surface of a whole mesh, as the smoother builds it.
+struct MeshSurface {
+  sodt::FaceList faces;
+  sodt::RingTopology topo;
+  std::vector<Vec3> pos;
+  sodt::InputSurface in;
+
+  MeshSurface(const sodt::MeshD& m, double limit) : faces(sodt::makeFaceList(m)), topo(sodt::buildRingTopology(m)) {
+    for (const auto& v : m.vert) pos.push_back(v.cP());
+    in.faces = &faces;
+    in.topo = &topo;
+    in.pos = &pos;
+    in.prepare(limit);
+  }
+  MeshSurface(const MeshSurface&) = delete;  // in points into this object
+  MeshSurface& operator=(const MeshSurface&) = delete;
+};
+
 }  // namespace
 
 /// Where no star has more than kPatchWindow faces, a vertex's patch is its
@@ -268,15 +286,9 @@ TEST(DeviationGuard, PatchIsTheTwoRingAroundOrdinaryStars) {
   for (const char* name : {"blobs_mc.ply", "torus.off", "cube_jitter.ply"}) {
     sodt::MeshD m;
     sodt::loadMesh(std::string(SODT_MESH_DIR) + "/" + name, m);
-    const sodt::FaceList faces = sodt::makeFaceList(m);
-    const sodt::RingTopology topo = sodt::buildRingTopology(m);
-    std::vector<Vec3> pos;
-    for (const auto& v : m.vert) pos.push_back(v.cP());
-    sodt::InputSurface in;
-    in.faces = &faces;
-    in.topo = &topo;
-    in.pos = &pos;
-    in.prepare(0.01);
+    const MeshSurface S(m, 0.01);
+    const sodt::RingTopology& topo = S.topo;
+    const sodt::InputSurface& in = S.in;
     int interior = 0;
     for (int v = 0; v < static_cast<int>(m.vert.size()); ++v) {
       ASSERT_LE(topo.ringSize(v), int{sodt::InputSurface::kPatchWindow}) << name;
@@ -302,15 +314,11 @@ TEST(DeviationGuard, PatchNextToAHighValenceVertexIsAWindow) {
   }
   sodt::MeshD m;
   sodt_test::makeBipyramid(m, ring, vcg::Point3d(0, 0, 1));
-  const sodt::FaceList faces = sodt::makeFaceList(m);
-  const sodt::RingTopology topo = sodt::buildRingTopology(m);
-  std::vector<Vec3> pos;
-  for (const auto& v : m.vert) pos.push_back(v.cP());
-  sodt::InputSurface in;
-  in.faces = &faces;
-  in.topo = &topo;
-  in.pos = &pos;
-  in.prepare(0.01);
+  const MeshSurface S(m, 0.01);
+  const sodt::FaceList& faces = S.faces;
+  const sodt::RingTopology& topo = S.topo;
+  const std::vector<Vec3>& pos = S.pos;
+  const sodt::InputSurface& in = S.in;
   const int w = sodt::InputSurface::kPatchWindow;
   for (int v = 2; v < n + 2; ++v) {
     ASSERT_EQ(topo.kind[v], sodt::VertexKind::Interior);
