@@ -109,29 +109,24 @@ inline Classification classifyRings(const RingTopology& topo, const std::vector<
   const long nv = static_cast<long>(topo.kind.size());
   c.cls.assign(nv, VertexClass::Fixed);
   c.creaseDir.assign(nv, Vec3(0, 0, 0));
-#ifdef _OPENMP
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
-#else
-  (void)threads;
-#endif
-  for (long i = 0; i < nv; ++i) {
-    if (topo.kind[i] != VertexKind::Interior) continue;
+  forEachInterior(topo, threads, [&](int i) {
     static thread_local std::vector<Vec3> ring;  // reused by each thread
     ring.clear();
     for (int k = topo.ringBegin[i]; k < topo.ringBegin[i + 1]; ++k) ring.push_back(pos[topo.ringIdx[k]]);
     const TensorClass t = classifyStar(pos[i], ring, sigma, epsilon, eta);
     c.cls[i] = t.cls;
     c.creaseDir[i] = t.creaseDir;
-  }
+  });
   for (long i = 0; i < nv; ++i)
     if (topo.kind[i] != VertexKind::Deleted) ++c.count[static_cast<int>(c.cls[i])];
   return c;
 }
 
-/// Bounding-box diagonal of the vertices of faces (neither isolated nor
-/// deleted): the mesh's size, which an unreferenced vertex does not change.
-inline double surfaceDiagonal(const std::vector<Vec3>& pos, const RingTopology& topo) {
-  Vec3 lo(0, 0, 0), hi(0, 0, 0);
+/// Bounding box [lo, hi] of the vertices of faces (neither isolated nor
+/// deleted), and its diagonal: the mesh's size, which an unreferenced vertex
+/// does not change. Without such vertices, the box is the origin.
+inline double surfaceBox(const std::vector<Vec3>& pos, const RingTopology& topo, Vec3& lo, Vec3& hi) {
+  lo = hi = Vec3(0, 0, 0);
   bool any = false;
   for (std::size_t i = 0; i < pos.size(); ++i) {
     if (topo.kind[i] == VertexKind::Deleted || topo.kind[i] == VertexKind::Isolated) continue;
@@ -142,6 +137,12 @@ inline double surfaceDiagonal(const std::vector<Vec3>& pos, const RingTopology& 
     any = true;
   }
   return any ? (hi - lo).Norm() : 0.0;
+}
+
+/// The diagonal of surfaceBox.
+inline double surfaceDiagonal(const std::vector<Vec3>& pos, const RingTopology& topo) {
+  Vec3 lo, hi;
+  return surfaceBox(pos, topo, lo, hi);
 }
 
 /// Classifies every vertex of m (Eq. 9-10) with sensitivities epsilon and eta.

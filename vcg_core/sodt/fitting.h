@@ -56,21 +56,14 @@ inline FittedFrame principalFit(const std::vector<std::pair<Vec3, double>>& pts,
 /// Area-weighted unit normal of every Interior vertex (zero for the others).
 inline std::vector<Vec3> vertexNormals(const RingTopology& topo, const std::vector<Vec3>& pos, int threads = 1) {
   std::vector<Vec3> nrm(pos.size(), Vec3(0, 0, 0));
-  const long nv = static_cast<long>(pos.size());
-#ifdef _OPENMP
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
-#else
-  (void)threads;
-#endif
-  for (long i = 0; i < nv; ++i) {
-    if (topo.kind[i] != VertexKind::Interior) continue;
-    const int b = topo.ringBegin[i], n = topo.ringSize(static_cast<int>(i));
+  forEachInterior(topo, threads, [&](int i) {
+    const int b = topo.ringBegin[i], n = topo.ringSize(i);
     Vec3 s(0, 0, 0);
     for (int k = 0; k < n; ++k)
       s += doubleAreaVector(pos[i], pos[topo.ringIdx[b + k]], pos[topo.ringIdx[b + (k + 1) % n]]);
     const double len = s.Norm();
     if (len > 0) nrm[i] = s / len;
-  }
+  });
   return nrm;
 }
 

@@ -185,4 +185,59 @@ inline SweepQuality measureSweepQuality(const FaceList& faces, const std::vector
   return SweepQualityMeter()(faces, pos, refNormal, threads, simd);
 }
 
+/// The states a run measures after its sweeps, for keepBest (the best
+/// state seen, the input being state 0) and toleranceDeg (the quality of the
+/// last sweep). Measures nothing when neither is asked for.
+class BestState {
+ public:
+  /// Measures the input. refNormal: as SweepQualityMeter.
+  BestState(bool keepBest, double toleranceDeg, bool flips, const FaceList& faces, const std::vector<Vec3>& pos,
+            const std::vector<Vec3>& refNormal, int threads, bool simd)
+      : keep_(keepBest), flips_(flips), tolerance_(toleranceDeg), threads_(threads), simd_(simd) {
+    if (!keep_ && !(tolerance_ > 0)) return;
+    last_ = meter_(faces, pos, refNormal, threads, simd);
+    best_ = last_;
+    if (keep_) pos_ = pos;
+    if (keep_ && flips_) faces_ = faces;
+  }
+
+  /// Measures the state after sweep `sweep` (1, 2, ...) and keeps it when
+  /// it is the best yet. True when the sweep raised neither the smallest
+  /// angle nor the 1st percentile by more than toleranceDeg.
+  bool afterSweep(int sweep, const FaceList& faces, const std::vector<Vec3>& pos,
+                  const std::vector<Vec3>& refNormal) {
+    if (!keep_ && !(tolerance_ > 0)) return false;
+    const SweepQuality q = meter_(faces, pos, refNormal, threads_, simd_);
+    if (keep_ && q.better(best_)) {
+      best_ = q;
+      sweep_ = sweep;
+      pos_ = pos;
+      if (flips_) faces_ = faces;
+    }
+    const bool stop = tolerance_ > 0 && q.minDeg - last_.minDeg <= tolerance_ && q.p1Deg - last_.p1Deg <= tolerance_;
+    last_ = q;
+    return stop;
+  }
+
+  /// With keepBest, puts the best state into pos and faces when it is not
+  /// the one after `sweeps` sweeps; returns the sweep of the state left there.
+  int restore(int sweeps, std::vector<Vec3>& pos, FaceList& faces) const {
+    if (!keep_ || sweep_ == sweeps) return sweeps;
+    pos = pos_;
+    if (flips_) faces = faces_;
+    return sweep_;
+  }
+
+ private:
+  bool keep_, flips_;
+  double tolerance_;
+  int threads_;
+  bool simd_;
+  SweepQualityMeter meter_;
+  SweepQuality last_, best_;
+  std::vector<Vec3> pos_;
+  FaceList faces_;
+  int sweep_ = 0;
+};
+
 }  // namespace sodt

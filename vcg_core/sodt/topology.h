@@ -35,6 +35,20 @@ struct RingTopology {
   int ringSize(int v) const { return ringBegin[v + 1] - ringBegin[v]; }
 };
 
+/// Calls f(i) for every Interior vertex i, split in equal shares between
+/// threads; f may write only what belongs to vertex i.
+template <class F>
+void forEachInterior(const RingTopology& topo, int threads, F f) {
+  const long nv = static_cast<long>(topo.kind.size());
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+#else
+  (void)threads;
+#endif
+  for (long i = 0; i < nv; ++i)
+    if (topo.kind[i] == VertexKind::Interior) f(static_cast<int>(i));
+}
+
 /// Triangles as vertex-index triples (indices into the mesh's vertex vector).
 struct FaceList {
   std::vector<std::array<int, 3>> tri;

@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The smoother's working copy of a vcg mesh: positions in double, faces and
+// one-rings as index arrays, in a cache-friendly vertex order; read from the
+// mesh before a run and written back after it.
+#pragma once
+
+#include "classify.h"
+#include "geometry.h"
+#include "normals.h"
+#include "params.h"
+#include "topology.h"
+
+#include <vcg/complex/algorithms/update/bounding.h>
+#include <vcg/complex/algorithms/update/topology.h>
+#include <vcg/complex/complex.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace sodt {
+
+/// A mesh as the sweeps see it. The working order of the vertices is
+/// breadth-first over the faces, so that a vertex's neighbours lie near it
+/// in memory (meshes refined by subdivision or merged from parts store them
+/// far apart); everything indexes vertices in this order.
+struct WorkingMesh {
+  std::vector<int> order;      ///< working index -> index in m.vert
+  std::vector<int> faceOrder;  ///< working face -> index in m.face
+  FaceList faces;              ///< in working vertex indices
+  std::vector<Vec3> pos;
+  std::vector<char> deleted, selected;
+  RingTopology topo;  ///< rebuilt after edge flips
+  int reorientedFaces = 0;  ///< see SodtStats::reorientedFaces
+};
+
+/// Throws InvalidInput naming how many vertices of m have a NaN or infinite
+/// coordinate, and the first.
+template <class MeshType>
+void checkFiniteCoordinates(const MeshType& m) {
+  const int nv = static_cast<int>(m.vert.size());
+  int nonFinite = 0, firstNonFinite = -1;
+  for (int i = 0; i < nv; ++i)
+    if (!m.vert[i].IsD() && !isFinite(Vec3::Construct(m.vert[i].cP())) && nonFinite++ == 0) firstNonFinite = i;
+  if (nonFinite > 0)
+    throw InvalidInput(std::to_string(nonFinite) + (nonFinite > 1 ? " vertices have" : " vertex has") +
+                       " a non-finite coordinate (NaN or infinite; first: vertex " +
+                       std::to_string(firstNonFinite) + "); the mesh was not changed");
+}
+
+/// The working copy of m; with selectedOnly, as makeFaceList. Inconsistent
+/// winding would leave the vertices where it changes fixed: each component
+/// gets the winding of the majority of its faces first (written back at
+/// the end, and counted in reorientedFaces).
+/// \throw InvalidInput for a mesh outside the sizes of checkMeshSize().
+template <class MeshType>
+WorkingMesh loadWorkingMesh(const MeshType& m, bool selectedOnly) {
+  WorkingMesh w;
+  const int nv = static_cast<int>(m.vert.size());
+  w.faces = makeFaceList(m, selectedOnly);
+  w.deleted.assign(nv, 0);
+  for (int i = 0; i < nv; ++i) w.deleted[i] = m.vert[i].IsD();
+  w.order = breadthFirstOrder(w.faces, w.deleted);
+  std::vector<int> slot(nv);  // index in m.vert -> working index
+  for (int i = 0; i < nv; ++i) slot[w.order[i]] = i;
+  w.pos.assign(nv, Vec3(0, 0, 0));
+  w.selected.assign(nv, 0);
+  for (int i = 0; i < nv; ++i) {
+    const auto& v = m.vert[w.order[i]];
+    w.deleted[i] = v.IsD();
+    w.selected[i] = v.IsS();
+    if (!w.deleted[i]) w.pos[i] = Vec3::Construct(v.cP());
+  }
+  for (std::size_t f = 0; f < w.faces.tri.size(); ++f)
+    if (w.faces.live[f])
+      for (int& v : w.faces.tri[f]) v = slot[v];
+  std::vector<int>().swap(slot);
+  w.faceOrder = sortFacesByVertex(w.faces, nv);
+  w.topo = buildRingTopology(w.faces, w.deleted);
+  if (std::find(w.topo.kind.begin(), w.topo.kind.end(), VertexKind::NonManifold) != w.topo.kind.end()) {
+    w.reorientedFaces = orientCoherently(w.faces, nv);
+    if (w.reorientedFaces > 0) w.topo = buildRingTopology(w.faces, w.deleted);
+  }
+  checkMeshSize(surfaceDiagonal(w.pos, w.topo));
+  return w;
+}
+
+/// Writes the working copy back into m: the faces when facesChanged (and
+/// any adjacency the caller had computed, which they invalidate), the
+/// positions of the moved vertices, the bounding box, and the unit face and
+/// vertex normals when present (writeNormals).
+template <class MeshType>
+void writeBack(MeshType& m, const WorkingMesh& w, const std::vector<int>& moved, bool facesChanged, int threads) {
+  using ScalarType = typename MeshType::ScalarType;
+  using CoordType = typename MeshType::CoordType;
+  if (facesChanged) {
+    for (std::size_t f = 0; f < w.faces.tri.size(); ++f)
+      if (w.faces.live[f])
+        for (int j = 0; j < 3; ++j) m.face[w.faceOrder[f]].V(j) = &m.vert[w.order[w.faces.tri[f][j]]];
+    if (vcg::tri::HasFFAdjacency(m)) vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+    if (vcg::tri::HasVFAdjacency(m)) vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+  }
+  for (int i : moved)
+    m.vert[w.order[i]].P() = CoordType(ScalarType(w.pos[i][0]), ScalarType(w.pos[i][1]), ScalarType(w.pos[i][2]));
+  vcg::tri::UpdateBounding<MeshType>::Box(m);
+  writeNormals(m, w.faces, w.topo, w.pos, w.order, w.faceOrder, threads);
+}
+
+/// cls (in working order) in the mesh's vertex order.
+inline Classification inMeshOrder(const Classification& cls, const std::vector<int>& order) {
+  const std::size_t nv = order.size();
+  Classification out = cls;
+  for (std::size_t i = 0; i < nv; ++i) out.cls[order[i]] = cls.cls[i];
+  if (!cls.creaseDir.empty())
+    for (std::size_t i = 0; i < nv; ++i) out.creaseDir[order[i]] = cls.creaseDir[i];
+  else
+    out.creaseDir.assign(nv, Vec3(0, 0, 0));
+  return out;
+}
+
+}  // namespace sodt
