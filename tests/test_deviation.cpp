@@ -156,8 +156,9 @@ TEST(DeviationGuard, ReusedMarginsChangeNoResult) {
     p.iterations = 15;
     p.threads = 2;
     const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshD>::Apply(with, p);
-    p.reuseDeviationMargins = false;
-    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshD>::Apply(without, p);
+    sodt::SweepTuning noMargins;
+    noMargins.reuseDeviationMargins = false;
+    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshD>::Apply(without, p, nullptr, nullptr, noMargins);
     EXPECT_TRUE(sodt_test::positions(with) == sodt_test::positions(without)) << what;
     EXPECT_TRUE(sodt_test::faceIndices(with) == sodt_test::faceIndices(without)) << what;
     EXPECT_EQ(a.moved, b.moved) << what;
@@ -219,8 +220,9 @@ TEST(DeviationGuard, FirstSweepStartsFromTheInputMargin) {
     p.maxDeviationRel = c.bound;
     p.iterations = 1;
     const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshD>::Apply(with, p);
-    p.reuseDeviationMargins = false;
-    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshD>::Apply(without, p);
+    sodt::SweepTuning noMargins;
+    noMargins.reuseDeviationMargins = false;
+    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshD>::Apply(without, p, nullptr, nullptr, noMargins);
     EXPECT_TRUE(sodt_test::positions(with) == sodt_test::positions(without)) << what;
     EXPECT_EQ(a.moved, b.moved) << what;
     EXPECT_EQ(a.backtracked, b.backtracked) << what;

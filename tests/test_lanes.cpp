@@ -454,8 +454,9 @@ void expectSameRuns(const std::string& name, sodt::Guard guard, bool flips, int 
   p.threads = threads;
   p.maxDeviationRel = maxDeviationRel;
   const sodt::SodtStats a = sodt::SodtSmoother<M>::Apply(with, p);
-  p.simd = false;
-  const sodt::SodtStats b = sodt::SodtSmoother<M>::Apply(without, p);
+  sodt::SweepTuning scalar;
+  scalar.simd = false;
+  const sodt::SodtStats b = sodt::SodtSmoother<M>::Apply(without, p, nullptr, nullptr, scalar);
   EXPECT_EQ(counters(a), counters(b));
   EXPECT_EQ(a.deviationQueries, b.deviationQueries);
   EXPECT_EQ(a.deviationReused, b.deviationReused);
@@ -633,8 +634,9 @@ TEST(Lanes, EveryAlgorithmIsTheSameWithAndWithoutTheStepLengthTest) {
     p.iterations = 8;
     p.threads = r.threads;
     const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshF>::Apply(with, p);
-    p.simd = false;
-    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshF>::Apply(without, p);
+    sodt::SweepTuning scalar;
+    scalar.simd = false;
+    const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshF>::Apply(without, p, nullptr, nullptr, scalar);
     EXPECT_EQ(counters(a), counters(b));
     EXPECT_EQ(a.deviationQueries, b.deviationQueries);
     EXPECT_EQ(a.deviationReused, b.deviationReused);

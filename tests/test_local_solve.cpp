@@ -17,6 +17,34 @@ using sodt::Vec3;
 
 namespace {
 
+// The fold test written out plainly, triangle by triangle, as the
+// definition prepareGuard and moveAllowed are checked against.
+void foldReferences(const Star& st, const Vec3& n, std::vector<Vec3>& cur) {
+  cur.resize(st.size());
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const Vec3& a = st.at(k);
+    const Vec3& b = st.at(k + 1);
+    const Vec3 now = sodt::doubleAreaVector(st.center, a, b);
+    const double l2now = std::max({(a - st.center).SquaredNorm(), (b - st.center).SquaredNorm(),
+                                   (b - a).SquaredNorm()});
+    cur[k] = now.Norm() > sodt::kCollapse * l2now ? now : n;
+  }
+}
+
+bool moveFolds(const Star& st, const Vec3& p, const std::vector<Vec3>& cur) {
+  const bool haveRef = st.refNormal.size() == st.size();
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const Vec3& a = st.at(k);
+    const Vec3& b = st.at(k + 1);
+    const Vec3 next = sodt::doubleAreaVector(p, a, b);
+    if (!(next * cur[k] > 0)) return true;
+    if (haveRef && next * st.refNormal[k] < 0) return true;
+    const double l2 = std::max({(a - p).SquaredNorm(), (b - p).SquaredNorm(), (b - a).SquaredNorm()});
+    if (!(next.SquaredNorm() > sodt::kCollapse * sodt::kCollapse * l2 * l2)) return true;
+  }
+  return false;
+}
+
 /// A random star-shaped ring around the origin, roughly in the z = 0 plane,
 /// with the centre displaced inside it; radii and angular gaps vary widely.
 Star randomStar(std::mt19937& g, double zNoise) {
@@ -215,12 +243,12 @@ TEST(Guards, MoveAllowedAgreesWithItsDefinitionWhateverTheWitness) {
     const Vec3 n = sodt::starNormal(st);
     std::vector<Vec3> cur;
     std::vector<double> edge2;
-    sodt::foldReferences(st, n, cur);
+    foldReferences(st, n, cur);
     sodt::ringEdgeLengths2(st, edge2);
     const bool quality = trial % 2 == 0;
     const double limit = sodt::starMinAngleCos2(st, st.center);
     const Vec3 p = st.center + Vec3(sodt_test::uniform(g, -0.8, 0.8), sodt_test::uniform(g, -0.8, 0.8), 0);
-    const bool expected = !sodt::moveFolds(st, p, cur) && (!quality || sodt::starKeepsMinAngle(st, p, limit));
+    const bool expected = !moveFolds(st, p, cur) && (!quality || sodt::starKeepsMinAngle(st, p, limit));
     const int n0 = static_cast<int>(st.size());
     for (int w = -1; w <= n0; ++w) {
       int witness = w;
@@ -248,8 +276,8 @@ TEST(Guards, MoveAllowedAgreesWithItsDefinitionWhateverTheWitness) {
 }
 
 TEST(Guards, PrepareGuardIsTheSeparateFunctionsBitForBit) {
-  // prepareGuard fuses foldReferences, ringEdgeLengths2 and
-  // starMinAngleCos2: every value must be the same bits, on general stars,
+  // prepareGuard fuses the fold references, ringEdgeLengths2 and
+  // starMinAngleCos2: every value must be the same bits as theirs, on general stars,
   // on stars with tied edge lengths (every corner choice and its ties),
   // collapsed and nearly collapsed triangles, a centre on the ring and
   // collinear rings.
@@ -283,7 +311,7 @@ TEST(Guards, PrepareGuardIsTheSeparateFunctionsBitForBit) {
     const Vec3 nrm = sodt::starNormal(st);
     std::vector<Vec3> cur, cur2;
     std::vector<double> edge2, edge22;
-    sodt::foldReferences(st, nrm, cur);
+    foldReferences(st, nrm, cur);
     sodt::ringEdgeLengths2(st, edge2);
     const bool quality = trial % 5 != 4;
     const double worst = quality ? sodt::starMinAngleCos2(st, st.center) : 1.0;

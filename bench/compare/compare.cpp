@@ -291,8 +291,6 @@ sodt::SodtParams unguardedParamsFor(sodt::Algorithm a, int iterations) {
   p.guard = sodt::Guard::None;
   p.laplacianFallback = false;
   p.maxDeviationRel = 0;
-  // The solvers compared as such: S-ODT's 4-lane kernel (lanes.h) has no ODT counterpart.
-  p.simd = false;
   return p;
 }
 
@@ -300,15 +298,19 @@ sodt::SodtParams unguardedParamsFor(sodt::Algorithm a, int iterations) {
 /// table's in-process rows: a run shorter than 1 s is repeated (from the
 /// input) up to `timingRuns` runs in all, or until 2 s are spent, and the
 /// median is returned. `first` (optional) receives the first run's result.
+/// The solvers are compared as such: without S-ODT's 4-lane kernel
+/// (lanes.h), which has no ODT counterpart.
 double medianApplySeconds(const MeshD& input, const sodt::SodtParams& p, int timingRuns, MeshD* first,
                           int* runs) {
+  sodt::SweepTuning scalar;
+  scalar.simd = false;
   std::vector<double> times;
   double spent = 0;
   do {
     MeshD m;
     copyMesh(input, m);
     const Clock::time_point t0 = Clock::now();
-    sodt::SodtSmoother<MeshD>::Apply(m, p);
+    sodt::SodtSmoother<MeshD>::Apply(m, p, nullptr, nullptr, scalar);
     times.push_back(since(t0));
     spent += times.back();
     if (first && times.size() == 1) copyMesh(m, *first);

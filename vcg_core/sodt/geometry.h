@@ -15,6 +15,18 @@ using Vec3 = vcg::Point3d;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kRadToDeg = 180.0 / kPi;
 
+/// A triangle collapses when the sine of its smallest angle is below this,
+/// roughly: its doubled area is at most kCollapse times its longest edge
+/// squared. The one threshold of every fold and collapse test, scalar and
+/// AVX2 (local_solve.h, lanes.h).
+constexpr double kCollapse = 1e-12;
+
+/// A 2x2 system, or a quadratic along a line, is singular in practice when
+/// its determinant (its curvature) is below this fraction of the sum of the
+/// magnitudes of its terms: the closed-form solves of local_solve.h and
+/// their AVX2 forms in lanes.h.
+constexpr double kSingularRel = 1e-12;
+
 /// Twice the area vector of triangle (a, b, c): (b - a) x (c - a).
 inline Vec3 doubleAreaVector(const Vec3& a, const Vec3& b, const Vec3& c) {
   return (b - a) ^ (c - a);

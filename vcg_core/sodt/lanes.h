@@ -213,7 +213,6 @@ SODT_LANES_TARGET inline __m256d cos2(__m256d dot, __m256d den) {
 SODT_LANES_TARGET inline __m256d triangleAllowed(const V3& u, const V3& w, __m256d uu, __m256d ww, __m256d ee,
                                                  const V3& cur, const V3* ref, bool quality, __m256d limit) {
   const __m256d zero = _mm256_setzero_pd();
-  constexpr double kCollapse = 1e-12;  // as moveAllowed
   const V3 next = cross(u, w);
   __m256d good = _mm256_cmp_pd(dot(next, cur), zero, _CMP_GT_OQ);
   if (ref) good = _mm256_andnot_pd(_mm256_cmp_pd(dot(next, *ref), zero, _CMP_LT_OQ), good);
@@ -243,7 +242,6 @@ SODT_LANES_TARGET inline void guardN(const V3& c, const V3* P, const V3* X, cons
                                      __m256d ok, const int* faceRows, const GuardInput& in, StepVerdict* out,
                                      Prepared* prepared) {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-  constexpr double kCollapse = 1e-12;  // as prepareGuard and moveAllowed
   const __m256d collapse = _mm256_set1_pd(kCollapse);
 
   // prepareGuard: fold references, ring edge lengths, the star's worst angle.
@@ -366,7 +364,7 @@ SODT_LANES_TARGET inline V3 solveN(const V3& c, const V3* X, const V3& nrm, __m2
   const __m256d det = sub(mul(mul(four, E), F), mul(G, G));
   const __m256d scl = add(mul(four, absv(mul(E, F))), mul(G, G));
   ok = _mm256_and_pd(ok, _mm256_cmp_pd(E, zero, _CMP_GT_OQ));
-  ok = _mm256_and_pd(ok, _mm256_cmp_pd(det, mul(_mm256_set1_pd(1e-12), scl), _CMP_GT_OQ));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(det, mul(_mm256_set1_pd(kSingularRel), scl), _CMP_GT_OQ));
   const __m256d inv = _mm256_div_pd(one, det);
   const __m256d u = mul(sub(mul(mul(two, F), H), mul(G, I)), inv);
   const __m256d v = mul(sub(mul(mul(two, E), I), mul(G, H)), inv);
@@ -449,7 +447,7 @@ SODT_LANES_TARGET inline V3 denoiseN(const V3& c, const V3* P, const V3* X, cons
   const __m256d det = sub(mul(qss, qtt), mul(qst, qst));
   const __m256d scl = add(absv(mul(qss, qtt)), mul(qst, qst));
   ok = _mm256_and_pd(ok, _mm256_cmp_pd(qss, zero, _CMP_GT_OQ));
-  ok = _mm256_and_pd(ok, _mm256_cmp_pd(det, mul(_mm256_set1_pd(1e-12), scl), _CMP_GT_OQ));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(det, mul(_mm256_set1_pd(kSingularRel), scl), _CMP_GT_OQ));
   const __m256d twoDet = mul(two, det);
   const __m256d u = _mm256_div_pd(sub(mul(qtt, rs), mul(qst, rt)), twoDet);
   const __m256d v = _mm256_div_pd(sub(mul(qss, rt), mul(qst, rs)), twoDet);

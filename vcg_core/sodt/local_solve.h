@@ -133,7 +133,7 @@ inline LocalMove solveStar(const Star& st, const Vec3& normal) {
   const double det = 4 * q.E * q.F - q.G * q.G;
   // Relative test: a determinant at rounding level is singular in practice.
   const double scale = 4 * std::abs(q.E * q.F) + q.G * q.G;
-  if (!(q.E > 0) || !(det > 1e-12 * scale)) return mv;
+  if (!(q.E > 0) || !(det > kSingularRel * scale)) return mv;
   const double inv = 1.0 / det;
   const double u = (2 * q.F * q.H - q.G * q.I) * inv;
   const double v = (2 * q.E * q.I - q.G * q.H) * inv;
@@ -203,7 +203,7 @@ inline bool minimizeOnLine(const StarQuadratic& q, const Vec3& p0, const Vec3& e
   const double a = q.quad(e, e);
   const double b = e * (q.g + q.apply(p0) * 2.0);
   const double scale = std::abs(q.Q[0][0]) + std::abs(q.Q[1][1]) + std::abs(q.Q[2][2]);
-  if (!(a > 1e-12 * scale)) return false;
+  if (!(a > kSingularRel * scale)) return false;
   const double d = -b / (2 * a);
   p = p0 + e * d;
   return isFinite(p);
@@ -218,7 +218,7 @@ inline bool minimizeOnPlane(const StarQuadratic& q, const Vec3& p0, const Vec3& 
   // 2 [qss qst; qst qtt] (u v)^T = (rs rt)^T
   const double det = qss * qtt - qst * qst;
   const double scale = std::abs(qss * qtt) + qst * qst;
-  if (!(qss > 0) || !(det > 1e-12 * scale)) return false;
+  if (!(qss > 0) || !(det > kSingularRel * scale)) return false;
   const double u = (qtt * rs - qst * rt) / (2 * det);
   const double v = (qss * rt - qst * rs) / (2 * det);
   p = p0 + s * u + t * v;
@@ -287,39 +287,6 @@ inline bool starKeepsMinAngle(const Star& st, const Vec3& p, double cos2Limit) {
   return true;
 }
 
-/// Per-triangle orientation references of the fold test for one star: the
-/// current area vector of each triangle, or the plane normal n for a
-/// triangle that is degenerate now. Computed once per vertex visit and
-/// shared by every step length tried.
-inline void foldReferences(const Star& st, const Vec3& n, std::vector<Vec3>& cur) {
-  constexpr double kCollapse = 1e-12;  // |sin| of the smallest admissible angle, roughly
-  cur.resize(st.size());
-  for (std::size_t k = 0; k < st.size(); ++k) {
-    const Vec3& a = st.at(k);
-    const Vec3& b = st.at(k + 1);
-    const Vec3 now = doubleAreaVector(st.center, a, b);
-    const double l2now = std::max({(a - st.center).SquaredNorm(), (b - st.center).SquaredNorm(),
-                                   (b - a).SquaredNorm()});
-    cur[k] = now.Norm() > kCollapse * l2now ? now : n;
-  }
-}
-
-/// moveFolds with the references of foldReferences precomputed.
-inline bool moveFolds(const Star& st, const Vec3& p, const std::vector<Vec3>& cur) {
-  constexpr double kCollapse = 1e-12;
-  const bool haveRef = st.refNormal.size() == st.size();
-  for (std::size_t k = 0; k < st.size(); ++k) {
-    const Vec3& a = st.at(k);
-    const Vec3& b = st.at(k + 1);
-    const Vec3 next = doubleAreaVector(p, a, b);
-    if (!(next * cur[k] > 0)) return true;
-    if (haveRef && next * st.refNormal[k] < 0) return true;
-    const double l2 = std::max({(a - p).SquaredNorm(), (b - p).SquaredNorm(), (b - a).SquaredNorm()});
-    if (!(next.SquaredNorm() > kCollapse * kCollapse * l2 * l2)) return true;
-  }
-  return false;
-}
-
 /// Fold test and, when quality is set, the smallest-angle test of
 /// starKeepsMinAngle in one pass over the star: true when moving the centre
 /// to p neither folds nor collapses a triangle (see moveFolds) nor gives one
@@ -332,7 +299,6 @@ inline bool moveFolds(const Star& st, const Vec3& p, const std::vector<Vec3>& cu
 inline bool moveAllowed(const Star& st, const Vec3& p, const std::vector<Vec3>& cur,
                         const std::vector<double>& ringEdge2, bool quality, double cos2Limit,
                         int* witness = nullptr) {
-  constexpr double kCollapse = 1e-12;
   const bool haveRef = st.refNormal.size() == st.size();
   const std::size_t n = st.size();
   if (n == 0) return true;
@@ -383,14 +349,16 @@ inline void ringEdgeLengths2(const Star& st, std::vector<double>& out) {
 }
 
 /// What moveAllowed needs for every step length of one visit, in one pass
-/// over the star: foldReferences(st, n, cur), ringEdgeLengths2(st,
-/// ringEdge2) and, when quality is set, returns starMinAngleCos2(st,
-/// st.center) (else 1). Bit for bit the same as those three: each spoke
-/// and ring edge is computed once and shared by the triangles beside it
-/// (p - a is -(a - p) exactly, so the dot products only change sign).
+/// over the star: per triangle the orientation reference of the fold test
+/// in cur (its doubled area vector now, or the plane normal n for a
+/// triangle that is degenerate now: area at most kCollapse times its
+/// longest edge squared), ringEdgeLengths2(st, ringEdge2), and, when
+/// quality is set, returns starMinAngleCos2(st, st.center) (else 1), bit
+/// for bit: each spoke and ring edge is computed once and shared by the
+/// triangles beside it (p - a is -(a - p) exactly, so the dot products only
+/// change sign).
 inline double prepareGuard(const Star& st, const Vec3& n, bool quality, std::vector<Vec3>& cur,
                            std::vector<double>& ringEdge2) {
-  constexpr double kCollapse = 1e-12;  // as foldReferences
   const std::size_t size = st.size();
   cur.resize(size);
   ringEdge2.resize(size);
@@ -426,10 +394,12 @@ inline double prepareGuard(const Star& st, const Vec3& n, bool quality, std::vec
 /// level relative to its longest edge; it flips when its area vector turns
 /// against the one it has now (or against the plane normal n, for a triangle
 /// that is degenerate now), or against its input normal st.refNormal[k].
+/// The fold test of moveAllowed alone, for a single position.
 inline bool moveFolds(const Star& st, const Vec3& p, const Vec3& n) {
   std::vector<Vec3> cur;
-  foldReferences(st, n, cur);
-  return moveFolds(st, p, cur);
+  std::vector<double> ringEdge2;
+  prepareGuard(st, n, false, cur, ringEdge2);
+  return !moveAllowed(st, p, cur, ringEdge2, false, 1.0);
 }
 
 /// Tangential Laplacian target: the centroid of the ring projected on the

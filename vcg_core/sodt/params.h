@@ -85,26 +85,6 @@ struct SodtParams {
   /// distance to the input. Not used by Denoise, whose purpose is to leave
   /// the noisy input surface, nor with Guard::None.
   double maxDeviationRel = 0.001;
-  /// Performance only: the deviation guard remembers, per vertex and per
-  /// star triangle, how far inside the bound its last accepted move left
-  /// the checked points, and skips the distance queries of later moves too
-  /// short to use that margin up. The results are the same either way.
-  bool reuseDeviationMargins = true;
-  /// Performance only: Algorithm 1 sweeps, Algorithm 2's smooth vertices
-  /// (whose update is Algorithm 1's) and Algorithm 3's smooth vertices with a
-  /// fitted plane solve four vertices at once in AVX2 lanes when the
-  /// processor has them (see lanes.h), and test the
-  /// full step under the fold and angle guard there too (without the
-  /// deviation bound, only for groups whose vertices mostly moved by their
-  /// full step at their last visit). A step that passes
-  /// is committed with no scalar work when nothing else is to be tested: no
-  /// deviation bound, or margins of the vertex's last move that cover every
-  /// point the deviation guard checks (reuseDeviationMargins); every other
-  /// visit is guarded one vertex at a time as usual. Every algorithm's
-  /// guard tests the shortened steps of a visit four lengths at once. The
-  /// quality measured after each sweep for keepBest and toleranceDeg takes
-  /// four faces at once too. The results are the same bit for bit either way.
-  bool simd = true;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.
   bool flips = false;
@@ -182,11 +162,11 @@ struct SodtStats {
   /// from the previous one: the vertex did not move at its previous visit and
   /// nothing in its star has moved since, so it would not move now either.
   long long skipped = 0;
-  /// Visits solved by the 4-lane kernel (see SodtParams::simd), skipped ones aside.
+  /// Visits solved by the 4-lane kernel (see SweepTuning::simd), skipped ones aside.
   long long laneVisits = 0;
   /// Points the deviation guard checked (a vertex, a centroid or an edge
   /// midpoint of its star): by a distance query to the input, or from the
-  /// margin the vertex's previous move left (see reuseDeviationMargins).
+  /// margin the vertex's previous move left (see SweepTuning::reuseDeviationMargins).
   long long deviationQueries = 0;
   long long deviationReused = 0;
   int threads = 1;             ///< worker threads the sweeps used

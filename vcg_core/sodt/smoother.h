@@ -64,10 +64,12 @@ struct SodtSmoother {
   ///           returning false stops after the current sweep.
   /// \param classes when not null, receives the classification used (all
   ///        interior vertices Smooth for Basic).
+  /// \param tuning switches of speed alone: the result is the same for
+  ///        every setting.
   /// \throw InvalidInput for bad parameters, a non-finite coordinate or a
   ///        mesh outside the sizes of checkMeshSize(); the mesh is untouched then.
   static SodtStats Apply(MeshType& m, const SodtParams& p, vcg::CallBackPos* cb = nullptr,
-                         Classification* classes = nullptr) {
+                         Classification* classes = nullptr, SweepTuning tuning = SweepTuning()) {
     p.validate();
     checkFiniteCoordinates(m);
     SodtStats stats;
@@ -93,16 +95,16 @@ struct SodtSmoother {
             : std::vector<FittedFrame>();
     DeviationInput input;
     input.prepare(p, w.pos, w.topo, w.faces);
-    VisitContext ctx{MoveInputs{p, cls, fit, meanEdge}, input.get(), p.simd && lanes::available(),
+    VisitContext ctx{MoveInputs{p, cls, fit, meanEdge}, input.get(), tuning.simd && lanes::available(),
                      Vec3(0, 0, 0), Vec3(0, 0, 0)};
     reachBox(p, w.pos, w.topo, meanEdge, ctx.boxLo, ctx.boxHi);
     FlipRules flipRules;
     flipRules.maxDihedralRad = p.flipMaxDihedralDeg * kPi / 180.0;
     if (p.algorithm != Algorithm::Basic) flipRules.cls = &cls.cls;
     flipRules.input = input.get();  // flips must keep the bound too
-    BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, faceNormal, threads, p.simd);
+    BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, faceNormal, threads, tuning.simd);
 
-    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, faceNormal, active, threads);
+    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, faceNormal, active, threads, tuning);
     const auto sweepsStart = std::chrono::steady_clock::now();
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
       sweeper.sweep();

@@ -25,6 +25,30 @@
 
 namespace sodt {
 
+/// Switches that change how fast a run is, never its result: tests and
+/// benchmarks compare both settings; users have no reason to touch them.
+struct SweepTuning {
+  /// The deviation guard remembers, per vertex and per star triangle, how
+  /// far inside the bound its last accepted move left the checked points,
+  /// and skips the distance queries of later moves too short to use that
+  /// margin up.
+  bool reuseDeviationMargins = true;
+  /// Algorithm 1 sweeps, Algorithm 2's smooth vertices (whose update is
+  /// Algorithm 1's) and Algorithm 3's smooth vertices with a fitted plane
+  /// solve four vertices at once in AVX2 lanes when the processor has them
+  /// (see lanes.h), and test the full step under the fold and angle guard
+  /// there too (without the deviation bound, only for groups whose vertices
+  /// mostly moved by their full step at their last visit). A step that
+  /// passes is committed with no scalar work when nothing else is to be
+  /// tested: no deviation bound, or margins of the vertex's last move that
+  /// cover every point the deviation guard checks (reuseDeviationMargins);
+  /// every other visit is guarded one vertex at a time as usual. Every
+  /// algorithm's guard tests the shortened steps of a visit four lengths at
+  /// once. The quality measured after each sweep for keepBest and
+  /// toleranceDeg takes four faces at once too.
+  bool simd = true;
+};
+
 /// Guarded sweeps go through the mesh in tiles of this many consecutive
 /// working indices (breadth-first order), colour by colour within each
 /// tile (colourVertices). A guarded visit reads some 300 bytes besides the
@@ -52,9 +76,9 @@ class Sweeper {
   /// change between sweeps (see connectivityChanged). faceNormal: the input
   /// orientation of every face, or empty without a guard.
   Sweeper(const VisitContext& ctx, std::vector<Vec3>& pos, const RingTopology& topo,
-          const std::vector<Vec3>& faceNormal, const std::vector<int>& active, int threads)
-      : ctx_(ctx), p_(ctx.move.p), pos_(pos), topo_(topo), faceNormal_(faceNormal), active_(active),
-        threads_(threads), scratch_(threads) {
+          const std::vector<Vec3>& faceNormal, const std::vector<int>& active, int threads, SweepTuning tuning)
+      : ctx_(ctx), p_(ctx.move.p), tuning_(tuning), pos_(pos), topo_(topo), faceNormal_(faceNormal),
+        active_(active), threads_(threads), scratch_(threads) {
     deviationGuard_ = ctx.input != nullptr;
     tile_ = p_.guard != Guard::None ? kTileVertices : 0;
     plan_ = colourVertices(topo, active, tile_);
@@ -193,7 +217,7 @@ class Sweeper {
     odo_.assign(nv, 0.0);
     // The input's points are on the input: the first visits start from
     // their margin, no query needed.
-    const float startMargin = p_.reuseDeviationMargins ? ctx_.input->inputMargin : -1.f;
+    const float startMargin = tuning_.reuseDeviationMargins ? ctx_.input->inputMargin : -1.f;
     pointMargin_.assign(nv, startMargin);
     slotMargin_.assign(ringSlots, startMargin);
     slotOdo_.assign(ringSlots, 0.f);
@@ -231,7 +255,7 @@ class Sweeper {
     const Algorithm a = p_.algorithm;
     const int nv = static_cast<int>(pos_.size());
     denoiseLanes_ = a == Algorithm::Denoise;
-    useLanes_ = p_.simd && (a == Algorithm::Basic || a == Algorithm::Feature || denoiseLanes_) &&
+    useLanes_ = tuning_.simd && (a == Algorithm::Basic || a == Algorithm::Feature || denoiseLanes_) &&
                 lanes::available() && nv < std::numeric_limits<int>::max() / 3;
     if (useLanes_) {
       const std::vector<FittedFrame>& fit = ctx_.move.fit;
@@ -252,7 +276,7 @@ class Sweeper {
     // scalar work: without the deviation bound always, with it when the
     // margins of the vertex's last move cover every checked point (see
     // laneKeeps), as they do for most full steps.
-    laneGuard_ = useLanes_ && p_.guard != Guard::None && (!deviationGuard_ || p_.reuseDeviationMargins) &&
+    laneGuard_ = useLanes_ && p_.guard != Guard::None && (!deviationGuard_ || tuning_.reuseDeviationMargins) &&
                  (std::is_same<Scalar, float>::value || std::is_same<Scalar, double>::value);
     // Guarded visits of the kernel's vertices take what prepareGuard
     // computes from the kernel too, which has the star in its lanes already.
@@ -403,7 +427,7 @@ class Sweeper {
     sc.queried += budget.queried;
     sc.reused += budget.reused;
     record(i, o, phaseNo, sc);
-    if (moves(o) && deviationGuard_ && p_.reuseDeviationMargins) commitMargins(i, from, budget);
+    if (moves(o) && deviationGuard_ && tuning_.reuseDeviationMargins) commitMargins(i, from, budget);
     return true;
   }
 
@@ -520,6 +544,7 @@ class Sweeper {
 
   const VisitContext& ctx_;
   const SodtParams& p_;
+  const SweepTuning tuning_;
   std::vector<Vec3>& pos_;
   const RingTopology& topo_;
   const std::vector<Vec3>& faceNormal_;
