@@ -69,6 +69,8 @@ inline double triangleMinAngleCos2(const Vec3& a, const Vec3& b, const Vec3& c) 
 /// Squared distance from p to the closest point of triangle (a, b, c),
 /// by the Voronoi regions of its vertices, edges and face.
 inline double pointTriangleDistance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Squared distance to the point o + e t of an edge.
+  const auto toEdge = [&p](const Vec3& o, const Vec3& e, double t) { return (p - (o + e * t)).SquaredNorm(); };
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab * ap, d2 = ac * ap;
   if (d1 <= 0 && d2 <= 0) return ap.SquaredNorm();
@@ -76,23 +78,14 @@ inline double pointTriangleDistance2(const Vec3& p, const Vec3& a, const Vec3& b
   const double d3 = ab * bp, d4 = ac * bp;
   if (d3 >= 0 && d4 <= d3) return bp.SquaredNorm();
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double t = d1 / (d1 - d3);
-    return (p - (a + ab * t)).SquaredNorm();
-  }
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return toEdge(a, ab, d1 / (d1 - d3));
   const Vec3 cp = p - c;
   const double d5 = ab * cp, d6 = ac * cp;
   if (d6 >= 0 && d5 <= d6) return cp.SquaredNorm();
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double t = d2 / (d2 - d6);
-    return (p - (a + ac * t)).SquaredNorm();
-  }
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return toEdge(a, ac, d2 / (d2 - d6));
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return (p - (b + (c - b) * t)).SquaredNorm();
-  }
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return toEdge(b, c - b, (d4 - d3) / ((d4 - d3) + (d5 - d6)));
   const double den = va + vb + vc;
   if (!(den > 0)) {  // degenerate triangle: closest of its edges
     auto seg = [&p](const Vec3& u, const Vec3& v) {
