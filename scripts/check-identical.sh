@@ -104,9 +104,10 @@ tmp="$(mktemp -d)"
 trap 'git -C "$root" worktree remove --force "$tmp/src" >/dev/null 2>&1 || true; rm -rf "$tmp"' EXIT
 git -C "$root" worktree add --detach "$tmp/src" "$base" >/dev/null
 echo "check-identical: building $base's sodt" >&2
+# The worktree has no .deps/: vcglib comes from this checkout's MeshLab tree.
 cmake -S "$tmp/src" -B "$tmp/build" -DCMAKE_BUILD_TYPE=Release -DSODT_BUILD_TESTS=OFF \
   -DSODT_BUILD_PLUGIN=OFF -DSODT_BUILD_BENCH=OFF -DSODT_BUILD_TOOLS=OFF \
-  -DSODT_MESHLAB2025_DIR= > "$tmp/cmake.log"
+  -DMESHLAB_SOURCE_DIR="$root/.deps/meshlab-src" -DSODT_MESHLAB2025_DIR= > "$tmp/cmake.log"
 cmake --build "$tmp/build" --target sodt -j "$(nproc)" > "$tmp/build.log"
 digests "$tmp/build/cli/sodt" > "$tmp/base.txt"
 digests "$sodt" > "$tmp/new.txt"
