@@ -80,11 +80,13 @@ std::string wrap(const std::string& text, std::size_t indent) {
       if (wordStart == std::string::npos) break;
       std::size_t wordEnd = line.find(' ', wordStart);
       if (wordEnd == std::string::npos) wordEnd = line.size();
-      // A short range "[0, 90]" stays on one line.
+      // A range "[0, 90]" stays on one line.
       const std::size_t close = line.find_first_of("])", wordStart);
       if ((line[wordStart] == '[' || line[wordStart] == '(') && line[wordEnd - 1] == ',' &&
-          close != std::string::npos && close > wordEnd && close - wordStart < 20)
-        wordEnd = std::min(line.size(), line.find(' ', close) == std::string::npos ? line.size() : line.find(' ', close));
+          close != std::string::npos && close > wordEnd && close - wordStart < 20) {
+        const std::size_t after = line.find(' ', close);
+        wordEnd = after == std::string::npos ? line.size() : after;
+      }
       const std::string gap = line.substr(pos, wordStart - pos), word = line.substr(wordStart, wordEnd - wordStart);
       if (!empty && cur.size() + gap.size() + word.size() > kHelpWidth) {
         out += cur + "\n";

@@ -64,6 +64,21 @@ std::string classCountsText(const sodt::Classification& c) {
   return s;
 }
 
+/// Writes the parameters of a run, each under its report key in
+/// sodt::paramTable(), as shown (maxDeviation in percent).
+void writeParameters(sodt::JsonWriter& j, const sodt::SodtParams& p) {
+  for (const sodt::ParamSpec& s : sodt::paramTable()) {
+    if (s.reportName() == nullptr) continue;
+    const double v = s.shownValue(p);
+    switch (s.type) {
+      case sodt::ParamType::Int: j.member(s.reportName(), static_cast<int>(v)); break;
+      case sodt::ParamType::Real: j.member(s.reportName(), v); break;
+      case sodt::ParamType::Bool: j.member(s.reportName(), v != 0); break;
+      case sodt::ParamType::Choice: j.member(s.reportName(), s.valueText(v)); break;
+    }
+  }
+}
+
 /// Writes the members every command's report starts with.
 void writeRunHeader(sodt::JsonWriter& j, const std::string& in, const std::string& out, const MeshD& m) {
   j.member("sodt_version", SODT_VERSION);
@@ -257,20 +272,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   sodt::JsonWriter j;
   j.beginObject();
   writeRunHeader(j, o.in, o.out, m);
-  j.member("algorithm", sodt::toString(o.params.algorithm));
-  j.member("guard", sodt::toString(o.params.guard));
-  j.member("iterations", o.params.iterations);
-  j.member("max_backtracks", o.params.maxBacktracks);
-  j.member("laplacian_fallback", o.params.laplacianFallback);
-  j.member("selected_only", o.params.selectedOnly);
-  j.member("epsilon", o.params.epsilon);
-  j.member("eta", o.params.eta);
-  j.member("max_deviation_percent", maxDeviation.shownValue(o.params));
-  j.member("max_normal_step", o.params.maxNormalStepRel);
-  j.member("flips_enabled", o.params.flips);
-  j.member("flip_max_dihedral", o.params.flipMaxDihedralDeg);
-  j.member("keep_best", o.params.keepBest);
-  j.member("tolerance", o.params.toleranceDeg);
+  writeParameters(j, o.params);
   j.member("distance_measured", dist.measured);
   if (o.classesOut.empty())
     j.memberNull("classes_output");

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,13 +27,19 @@ using sodt::ParamType;
 // The core
 
 TEST(ParamTable, EveryFieldHasOneEntryWithNamesHelpAndRange) {
-  std::vector<std::string> seen;
+  std::vector<std::string> seen, reported;
   for (const ParamSpec& s : sodt::paramTable()) {
     SCOPED_TRACE(s.field);
     for (const std::string& name : seen) {
       EXPECT_NE(name, s.field);
     }
     seen.push_back(s.field);
+    if (s.reportName() != nullptr) {
+      for (const std::string& name : reported) {
+        EXPECT_NE(name, s.reportName());
+      }
+      reported.push_back(s.reportName());
+    }
     EXPECT_STRNE(s.key, "");
     EXPECT_STRNE(s.pythonKey, "");
     EXPECT_STRNE(s.label, "");
@@ -236,59 +243,75 @@ std::string usedBy(const ParamSpec& s) {
   return " Used by " + names + ".";
 }
 
+/// A Markdown table with one row per table entry.
+std::string markdownTable(const std::vector<std::string>& header,
+                          const std::function<std::vector<std::string>(const ParamSpec&)>& row) {
+  std::string out, rule;
+  for (const std::string& h : header) {
+    out += "| " + h + " ";
+    rule += "|---";
+  }
+  out += "|\n" + rule + "|\n";
+  for (const ParamSpec& s : sodt::paramTable()) {
+    for (const std::string& c : row(s)) out += "| " + cell(c) + " ";
+    out += "|\n";
+  }
+  return out;
+}
+
+/// "[0, 100] percent of the bounding-box diagonal"; "" for on/off and choices.
+std::string rangeWithUnit(const ParamSpec& s) {
+  const std::string r = s.rangeText();
+  return r.empty() || s.unit[0] == '\0' ? r : r + " " + s.unit;
+}
+
 /// The table of docs/parameters.md: every name, type, default, range and help.
 std::string parametersTable() {
-  std::ostringstream o;
-  o << "| MeshLab 2020.09 key | Python key (MeshLab 2025.07) | CLI option | type | default | range | meaning |\n"
-    << "|---|---|---|---|---|---|---|\n";
-  for (const ParamSpec& s : sodt::paramTable()) {
-    static const char* const types[] = {"integer", "number", "on/off", "choice"};
-    std::string def = "`" + s.defaultText() + "`";
-    if (s.defaultOnWithSelection) def += "; plugin: on when the mesh has a selection";
-    std::string range = s.rangeText();
-    if (!range.empty() && s.unit[0]) range += std::string(" ") + s.unit;
-    std::string meaning = s.help;
-    meaning[0] = static_cast<char>(std::toupper(meaning[0]));
-    meaning += ".";
-    for (std::size_t i = 0; i < s.choices.size(); ++i)
-      meaning += std::string(i == 0 ? " " : "; ") + "`" + s.choices[i].name + "` (" + std::to_string(i) +
-                 "): " + s.choices[i].help + (i + 1 == s.choices.size() ? "." : "");
-    meaning += usedBy(s);
-    if (s.details[0]) meaning += std::string(" ") + s.details;
-    const std::string cli = s.cliValue ? std::string(s.cliOption) + " " + s.cliValue : s.cliOption;
-    o << "| `" << s.key << "` | `" << s.pythonKey << "` | `" << cell(cli) << "` | "
-      << types[static_cast<int>(s.type)] << " | " << def << " | " << range << " | " << cell(meaning) << " |\n";
-  }
-  return o.str();
+  return markdownTable(
+      {"MeshLab 2020.09 key", "Python key (MeshLab 2025.07)", "CLI option", "type", "default", "range", "meaning"},
+      [](const ParamSpec& s) -> std::vector<std::string> {
+        static const char* const types[] = {"integer", "number", "on/off", "choice"};
+        std::string def = "`" + s.defaultText() + "`";
+        if (s.defaultOnWithSelection) def += "; plugin: on when the mesh has a selection";
+        std::string meaning = s.help;
+        meaning[0] = static_cast<char>(std::toupper(meaning[0]));
+        meaning += ".";
+        for (std::size_t i = 0; i < s.choices.size(); ++i)
+          meaning += std::string(i == 0 ? " " : "; ") + "`" + s.choices[i].name + "` (" + std::to_string(i) +
+                     "): " + s.choices[i].help + (i + 1 == s.choices.size() ? "." : "");
+        meaning += usedBy(s);
+        if (s.details[0]) meaning += std::string(" ") + s.details;
+        const std::string cli = s.cliValue ? std::string(s.cliOption) + " " + s.cliValue : s.cliOption;
+        return {std::string("`") + s.key + "`", std::string("`") + s.pythonKey + "`", "`" + cli + "`",
+                types[static_cast<int>(s.type)], def, rangeWithUnit(s), meaning};
+      });
 }
 
 /// The table of filter_sodt/README.md: the dialog's view (types, defaults as
 /// the dialog shows them, the algorithms of the paper that use each).
 std::string pluginTable() {
-  std::ostringstream o;
-  o << "| Key (2020.09) | Key (2025.07, Python) | Type | Default | Alg. | Meaning |\n"
-    << "|---|---|---|---|---|---|\n";
-  for (const ParamSpec& s : sodt::paramTable()) {
-    static const char* const types[] = {"RichInt", "RichFloat", "RichBool", "RichEnum"};
-    const double v = s.shownValue(sodt::SodtParams{});
-    std::string def;
-    switch (s.type) {
-      case ParamType::Bool: def = s.defaultOnWithSelection ? "selection exists" : v != 0 ? "true" : "false"; break;
-      case ParamType::Choice: def = std::to_string(static_cast<int>(v)); break;
-      default: def = s.defaultText();
-    }
-    std::string alg;
-    for (int a = 0; a < 3; ++a)
-      if (s.algorithms & sodt::algorithmBit(static_cast<sodt::Algorithm>(a)))
-        alg += (alg.empty() ? "" : " ") + std::to_string(a + 1);
-    std::string meaning = s.help;
-    if (!s.rangeText().empty()) meaning += "; " + s.rangeText() + (s.unit[0] ? std::string(" ") + s.unit : "");
-    for (std::size_t i = 0; i < s.choices.size(); ++i)
-      meaning += std::string(i == 0 ? ": " : ", ") + std::to_string(i) + " = " + s.choices[i].label;
-    o << "| `" << s.key << "` | `" << s.pythonKey << "` | " << types[static_cast<int>(s.type)] << " | " << def
-      << " | " << alg << " | " << cell(meaning) << " |\n";
-  }
-  return o.str();
+  return markdownTable(
+      {"Key (2020.09)", "Key (2025.07, Python)", "Type", "Default", "Alg.", "Meaning"},
+      [](const ParamSpec& s) -> std::vector<std::string> {
+        static const char* const types[] = {"RichInt", "RichFloat", "RichBool", "RichEnum"};
+        const double v = s.shownValue(sodt::SodtParams{});
+        std::string def;
+        switch (s.type) {
+          case ParamType::Bool: def = s.defaultOnWithSelection ? "selection exists" : v != 0 ? "true" : "false"; break;
+          case ParamType::Choice: def = std::to_string(static_cast<int>(v)); break;
+          default: def = s.defaultText();
+        }
+        std::string alg;
+        for (int a = 0; a < 3; ++a)
+          if (s.algorithms & sodt::algorithmBit(static_cast<sodt::Algorithm>(a)))
+            alg += (alg.empty() ? "" : " ") + std::to_string(a + 1);
+        std::string meaning = s.help;
+        if (!s.rangeText().empty()) meaning += "; " + rangeWithUnit(s);
+        for (std::size_t i = 0; i < s.choices.size(); ++i)
+          meaning += std::string(i == 0 ? ": " : ", ") + std::to_string(i) + " = " + s.choices[i].label;
+        return {std::string("`") + s.key + "`", std::string("`") + s.pythonKey + "`", types[static_cast<int>(s.type)],
+                def, alg, meaning};
+      });
 }
 
 std::string readText(const std::string& path) {

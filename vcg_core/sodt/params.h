@@ -264,6 +264,9 @@ struct ParamSpec {
   const char* key = "";        ///< MeshLab 2020.09 key (lowerCamelCase, .mlx scripts): "maxDeviation"
   const char* pythonKey = "";  ///< MeshLab 2025.07 / PyMeshLab key (lower_snake_case): "max_deviation"
   const char* cliOption = "";  ///< `sodt smooth` option: "--max-deviation"
+  /// Key in the JSON report of `sodt smooth`: pythonKey when "", none when
+  /// nullptr (the report's `threads` are the threads used, not asked for).
+  const char* reportKey = "";
   /// Placeholder of the option's value in the CLI help ("N", "PERCENT");
   /// nullptr for a switch (a Bool that is off by default and set by naming it).
   const char* cliValue = nullptr;
@@ -296,6 +299,9 @@ struct ParamSpec {
   ParamSpec& keys(const char* ml2020, const char* python) { key = ml2020; pythonKey = python; return *this; }
   ParamSpec& cli(const char* option, const char* value) { cliOption = option; cliValue = value; return *this; }
   ParamSpec& dialog(const char* text) { label = text; return *this; }
+  ParamSpec& reportAs(const char* k) { reportKey = k; return *this; }
+  /// The key in the JSON report.
+  const char* reportName() const { return reportKey != nullptr && reportKey[0] == '\0' ? pythonKey : reportKey; }
   ParamSpec& range(double lo, double hi, bool loOpen = false, bool hiOpen = false) {
     min = lo; max = hi; minOpen = loOpen; maxOpen = hiOpen;
     return *this;
@@ -462,7 +468,7 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "crease vertices). It lifts the minimum angle much further on sliver meshes. Unused with "
                   "guard none.");
     t[5].bind("maxDeviationRel", &SodtParams::maxDeviationRel).keys("maxDeviation", "max_deviation")
-        .cli("--max-deviation", "PERCENT").dialog("Max deviation (% of bbox diagonal)")
+        .cli("--max-deviation", "PERCENT").reportAs("max_deviation_percent").dialog("Max deviation (% of bbox diagonal)")
         .shownIn("percent of the bounding-box diagonal", 100).range(0, 1)
         .usedBy(kEveryAlgorithm & ~denoise)
         .describe("deviation guard: after a move, the vertex and the centroids and edge midpoints of its "
@@ -493,7 +499,8 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "or across its fitted crease line (crease vertices)",
                   "Bounds how far the surface drifts from the input however many sweeps run; larger values "
                   "remove stronger noise, 0 removes none.");
-    t[9].bind("flips", &SodtParams::flips).keys("flips", "flips").cli("--flips", nullptr).dialog("Edge flips")
+    t[9].bind("flips", &SodtParams::flips).keys("flips", "flips").cli("--flips", nullptr).reportAs("flips_enabled")
+        .dialog("Edge flips")
         .describe("flip edges between sweeps; this changes the connectivity (the vertex and face counts "
                   "stay), which the paper keeps",
                   "After each sweep an interior edge is flipped only when its two triangles are nearly "
@@ -516,7 +523,7 @@ inline const std::vector<ParamSpec>& paramTable() {
         .dialog("Tolerance (deg)").shownIn("degrees").range(0, 180)
         .describe("stop early once a sweep raises neither the smallest angle nor the 1st percentile of the "
                   "per-triangle smallest angle by more than this (0 runs every sweep)");
-    t[13].bind("threads", &SodtParams::threads).keys("threads", "threads").cli("--threads", "N")
+    t[13].bind("threads", &SodtParams::threads).keys("threads", "threads").cli("--threads", "N").reportAs(nullptr)
         .dialog("Threads").range(0, 1024)
         .describe("worker threads for the sweeps (0: all hardware threads; a build without OpenMP uses one)",
                   "Vertices are swept colour by colour, never two neighbours at once, so the result is "
