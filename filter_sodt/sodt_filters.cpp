@@ -19,7 +19,6 @@
 #include <cstdarg>
 #include <cstdio>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace sodt_plugin {
@@ -76,6 +75,17 @@ const char* const kCitation =
     "Triangulation\"</b><br>"
     "Graphical Models 75 (2013) 23-38, doi:10.1016/j.gmod.2012.10.007<br>";
 
+/// A table entry's one-line help, as HTML (its "<" and ">" escaped).
+QString paramHtml(const char* field) { return QString::fromUtf8(sodt::paramSpec(field).help).toHtmlEscaped(); }
+
+/// A Choice entry's values as an HTML list: "<li><i>basic</i>: help</li>".
+QString choicesHtml(const sodt::ParamSpec& s) {
+  QString html = "<ul>";
+  for (const sodt::ParamChoice& c : s.choices)
+    html += QString("<li><i>%1</i>: %2</li>").arg(c.name, QString::fromUtf8(c.help).toHtmlEscaped());
+  return html + "</ul>";
+}
+
 /// One log line with the number of vertices per class.
 std::string classCounts(const sodt::Classification& c) {
   return strFormat("%d smooth, %d crease, %d corner, %d fixed (border, non-manifold or isolated)",
@@ -110,21 +120,17 @@ QString filterInfo(int id) {
                  "energy of its one-ring (Eqs. 5-8 of the paper): the shape and the enclosed volume "
                  "stay. Boundary and non-manifold vertices never move. The connectivity changes only "
                  "with <i>Edge flips</i>, off by default as in the paper.<br><br>"
-                 "<b>Algorithm</b>: <i>basic</i> (Algorithm 1) for surfaces without sharp edges; "
-                 "<i>feature</i> (Algorithm 2) classifies the vertices once by their normal tensor "
-                 "(Eqs. 9-10, see <i>S-ODT: Classify Feature Vertices</i>): corners stay, creases "
-                 "slide along themselves; <i>denoise</i> (Algorithm 3) moves vertices on fitted "
-                 "planes and crease lines and so removes noise. The two references (numerical ODT, "
-                 "Laplacian) are for comparisons.<br><br>"
-                 "<b>Guards</b> (beyond the paper, whose literal update folds triangles on poor "
-                 "input): before a move is committed, no incident triangle may flip or collapse; "
-                 "with <i>quality</i> the smallest angle around the vertex may not decrease either; "
-                 "the vertex, its edge midpoints and face centroids must stay within <i>Max "
-                 "deviation</i> of the input surface; no vertex goes farther than its farthest "
-                 "neighbour or leaves the input's bounding box grown by that bound. A vetoed step is "
-                 "halved, then the tangential "
-                 "Laplacian step is tried. The result is the same for any number of threads. Each "
-                 "parameter's help tells more.<br><br>"
+                 "<b>Algorithm</b>:") +
+             choicesHtml(sodt::paramSpec("algorithm")) +
+             "<b>Guards</b> (beyond the paper, whose literal update folds triangles on poor input). "
+             "<i>Guard</i>, the " + paramHtml("guard") + ":" + choicesHtml(sodt::paramSpec("guard")) +
+             "<i>Max deviation</i>, the " + paramHtml("maxDeviationRel") +
+             ". No vertex goes farther than its farthest neighbour or leaves the input's bounding box grown "
+             "by that bound. A vetoed step is halved (<i>Max backtracks</i>), then the tangential Laplacian "
+             "step is tried (<i>Laplacian fallback</i>).<br><br>"
+             "<i>Keep best</i>: " + paramHtml("keepBest") + ". The result is the same for any number of "
+             "threads. Each parameter's help tells more.<br><br>" +
+             QString(
                  "<b>Output vertex class</b> writes the class of every vertex to its quality and "
                  "colour:") +
              classTableHtml() +
@@ -255,8 +261,7 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
     }
 
     // The measures do not depend on the number of threads either.
-    const int measureThreads =
-        p.threads > 0 ? p.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int measureThreads = sodt::resolveThreads(p.threads);
     const sodt::AngleStats before = sodt::computeAngleStats(m, measureThreads);
     const sodt::VolumeResult volBefore = sodt::enclosedVolume(m, measureThreads);
 
@@ -308,7 +313,7 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
       log(LogLevel::Info, strFormat("S-ODT: max normal step %g x mean edge length", p.maxNormalStepRel));
     else if (p.guard != sodt::Guard::None && p.maxDeviationRel > 0)
       log(LogLevel::Info, strFormat("S-ODT: deviation guard %g%% of the bounding-box diagonal",
-                                    100.0 * p.maxDeviationRel));
+                                    sodt::paramSpec("maxDeviationRel").shownValue(p)));
     log(LogLevel::Info, strFormat("S-ODT: min angle %.4f -> %.4f deg, max angle %.4f -> %.4f deg, "
                                   "angles below 30 deg %.3f%% -> %.3f%%",
                                   before.minDeg, after.minDeg, before.maxDeg, after.maxDeg,

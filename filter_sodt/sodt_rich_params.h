@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Translation between MeshLab's RichParameterList and the core's parameters: the
-// one place that spells the (stable) parameter keys of the filters, lowerCamelCase
-// for MeshLab 2020.09 and lower_snake_case for MeshLab 2021.05+ and PyMeshLab.
+// Translation between MeshLab's RichParameterList and the core's parameters.
+// The parameters of a smoothing run come from sodt::paramTable() (params.h),
+// which spells their stable keys, lowerCamelCase for MeshLab 2020.09 and
+// lower_snake_case for MeshLab 2021.05+ and PyMeshLab; this file adds the
+// filters' own `outputClass` and `selectFeatures`.
 #pragma once
 
 #include <sodt/params.h>
@@ -9,25 +11,17 @@
 class MeshModel;
 class RichParameterList;
 
-/// Appends the parameters of "S-ODT Smoothing" to a filter's parameter list.
+/// Appends the parameters of "S-ODT Smoothing" to a filter's parameter list:
+/// one per sodt::paramTable() entry, in its order, then `outputClass`
+/// (RichBool, default true: write the classes to vertex quality and colour).
 ///
-/// Keys, in dialog order, as spelled for MeshLab 2020.09 (2021.05+ spells the
-/// same keys in lower_snake_case: `max_backtracks`, `laplacian_fallback`, ...,
-/// and labels the enum entries with the CLI's names, `basic`, `feature`, ...,
-/// `none`, `fold`, `quality`): `algorithm` (RichEnum), `iterations` (RichInt),
-/// `guard` (RichEnum), `maxBacktracks` (RichInt), `laplacianFallback`
-/// (RichBool), `maxDeviation` (RichFloat, percent of the bounding-box
-/// diagonal), `epsilon` (RichFloat), `eta` (RichFloat), `maxNormalStep`
-/// (RichFloat, fraction of the mean edge length), `flips` (RichBool),
-/// `flipMaxDihedral` (RichFloat, degrees), `keepBest` (RichBool), `tolerance`
-/// (RichFloat, degrees), `threads` (RichInt, 0 = all cores), `selectedOnly`
-/// (RichBool), `outputClass` (RichBool).
-/// Enum indices equal the integer values of sodt::Algorithm and sodt::Guard.
-/// Every default is read from sodt::SodtParams{} (`maxDeviation` = 100 *
-/// maxDeviationRel, `flipMaxDihedral` = flipMaxDihedralDeg, `tolerance` =
-/// toleranceDeg), except
-/// `selectedOnly`, which is true when the mesh has a vertex or face selection
-/// (svn > 0 || sfn > 0), and `outputClass`, which is true.
+/// An entry becomes a RichInt, RichFloat (its shown value: `maxDeviation` in
+/// percent), RichBool or RichEnum (entry i is enum value i, labelled with
+/// ParamChoice::label for MeshLab 2020.09 and with the CLI's name for
+/// 2021.05+), with the entry's key, dialog label and a tooltip made of its
+/// help, range, unit, choices, the algorithms that use it and its details.
+/// Every default is the SodtParams{} field's, except `selectedOnly`, which is
+/// on when the mesh has a vertex or face selection (svn > 0 || sfn > 0).
 /// \param list parameter list to extend; keys already present are not checked.
 /// \param m    mesh the dialog is opened for; only its selection counts are read.
 void appendSodtParams(RichParameterList& list, const MeshModel& m);
@@ -36,15 +30,11 @@ void appendSodtParams(RichParameterList& list, const MeshModel& m);
 ///
 /// Float values are read at float precision, as the shortest decimal with 7
 /// significant digits (0.1 stays 0.1, not 0.100000001), so the plugin runs with
-/// the values the user wrote. `maxDeviation` is converted from percent to the
-/// fraction SodtParams::maxDeviationRel. Everything else is passed through unchecked
-/// (an out-of-range enum index or count coming from a script included), so
-/// that sodt::SodtParams::validate() reports it with the core's message,
-/// except the three ranges below.
-/// \throw sodt::InvalidInput when `maxBacktracks` is not in [0, 60],
-///        `maxDeviation` not in [0, 100] percent, `maxNormalStep` not in [0, 10],
-///        `flipMaxDihedral` not in [0, 90] or `tolerance` not in [0, 180]
-///        degrees: the core's message would name its own fields, not the keys.
+/// the values the user wrote; shown values are converted to the fields'
+/// (ParamSpec::setShown: `maxDeviation` percent to a fraction).
+/// \throw sodt::InvalidInput naming the key (as spelled for the API) when a
+///        value lies outside its table range, e.g. "max_deviation must be in
+///        [0, 100] (percent of the bounding-box diagonal), got 200".
 /// \throw MLException (a std::exception) when a key is missing from the list.
 sodt::SodtParams readSodtParams(const RichParameterList& list);
 
@@ -68,11 +58,12 @@ struct SodtClassifyParams {
   }
 };
 
-/// Appends the parameters of the classification filter: `epsilon`, `eta`
-/// (RichFloat, defaults from sodt::SodtParams{}) and `selectFeatures`
-/// (RichBool, default false). The keys equal those of the smoothing filter.
+/// Appends the parameters of the classification filter: the table entries
+/// `epsilon` and `eta` (as in the smoothing filter) and `selectFeatures`
+/// (RichBool, default false).
 void appendClassifyParams(RichParameterList& list);
 
-/// Reads back the values appended by appendClassifyParams, unvalidated.
+/// Reads back the values appended by appendClassifyParams.
+/// \throw sodt::InvalidInput naming `epsilon` or `eta` when out of range.
 /// \throw MLException (a std::exception) when a key is missing from the list.
 SodtClassifyParams readClassifyParams(const RichParameterList& list);

@@ -5,6 +5,7 @@
 // Usage:
 //   sodt_plugin_script_tool PLUGIN.so "FILTER NAME" --write OUT.mlx [--set NAME=VALUE]...
 //   sodt_plugin_script_tool PLUGIN.so "FILTER NAME" --check SHIPPED.mlx
+//   sodt_plugin_script_tool PLUGIN.so "FILTER NAME" --check-table
 // --write saves the filter's parameter list with its defaults, serialized by
 // MeshLab (as the GUI's "Save filter script" does, minus descriptions); each
 // --set replaces the default of an existing parameter by a value that MeshLab
@@ -13,12 +14,18 @@
 // filter once and lists exactly the plugin's parameters, in order, with the
 // same names and types, that MeshLab parses every value, and that enum values
 // are in range: the conditions under which meshlabserver 2020.09 neither
-// aborts nor silently falls back to a default.
+// aborts nor silently falls back to a default. --check-table verifies that
+// the filter's parameter list holds every sodt::paramTable() entry it should
+// (all for the smoothing filter, epsilon and eta for the classification)
+// with the entry's key, type, default, dialog label, enum labels, and a
+// tooltip with its help, range, unit and details.
 // Exit status: 0 ok, 1 check failed, 2 usage or loading error.
 
 #include <common/filterscript.h>
 #include <common/interfaces.h>
 #include <common/meshmodel.h>
+
+#include <sodt/params.h>
 
 #include <QCoreApplication>
 #include <QDomDocument>
@@ -39,7 +46,8 @@ int usage() {
   std::fprintf(stderr,
                "usage: sodt_plugin_script_tool PLUGIN.so \"FILTER NAME\" --write OUT.mlx "
                "[--set NAME=VALUE]...\n"
-               "       sodt_plugin_script_tool PLUGIN.so \"FILTER NAME\" --check SHIPPED.mlx\n");
+               "       sodt_plugin_script_tool PLUGIN.so \"FILTER NAME\" --check SHIPPED.mlx\n"
+               "       sodt_plugin_script_tool PLUGIN.so \"FILTER NAME\" --check-table\n");
   return 2;
 }
 
@@ -122,6 +130,64 @@ int checkScript(const QString& path, const QString& filterName, const RichParame
       if (!ok || v < 0 || v >= card)
         problem(QString("parameter '%1': enum value '%2' is not in [0, %3)").arg(rp.name(), xp.value).arg(card));
     }
+  }
+  return problems;
+}
+
+/// Compares the filter's parameters with the sodt::paramTable() entries it
+/// is built from; prints every problem and returns how many there are.
+int checkTable(const QString& filterName, const RichParameterList& plugin) {
+  int problems = 0;
+  auto problem = [&problems](const QString& what) {
+    std::fprintf(stderr, "table check: %s\n", qUtf8Printable(what));
+    ++problems;
+  };
+  std::vector<const sodt::ParamSpec*> specs;
+  for (const sodt::ParamSpec& s : sodt::paramTable())
+    if (filterName == "S-ODT Smoothing" || std::strcmp(s.field, "epsilon") == 0 || std::strcmp(s.field, "eta") == 0)
+      specs.push_back(&s);
+  static const char* const types[] = {"RichInt", "RichFloat", "RichBool", "RichEnum"};
+  const sodt::SodtParams d{};
+  for (const sodt::ParamSpec* s : specs) {
+    const RichParameter* rp = nullptr;
+    for (const RichParameter& p : plugin)
+      if (p.name() == s->key) rp = &p;
+    const QString key = s->key;
+    if (rp == nullptr) {
+      problem("no parameter '" + key + "'");
+      continue;
+    }
+    if (rp->stringType() != types[static_cast<int>(s->type)]) {
+      problem(QString("'%1' is a %2, the table says %3").arg(key, rp->stringType(), types[static_cast<int>(s->type)]));
+      continue;
+    }
+    // On an empty mesh without selection, as the script's defaults.
+    const double want = s->defaultOnWithSelection ? 0 : s->shownValue(d);
+    double got = 0;
+    switch (s->type) {
+      case sodt::ParamType::Int: got = rp->value().getInt(); break;
+      case sodt::ParamType::Real: got = rp->value().getFloat(); break;
+      case sodt::ParamType::Bool: got = rp->value().getBool() ? 1 : 0; break;
+      case sodt::ParamType::Choice: got = rp->value().getEnum(); break;
+    }
+    const double wantStored = s->type == sodt::ParamType::Real ? static_cast<float>(want) : want;
+    if (got != wantStored) problem(QString("'%1' defaults to %2, the table to %3").arg(key).arg(got).arg(want));
+    if (rp->fieldDescription() != s->label)
+      problem(QString("'%1' is labelled '%2', the table says '%3'").arg(key, rp->fieldDescription(), s->label));
+    if (s->type == sodt::ParamType::Choice) {
+      QStringList labels;
+      for (const sodt::ParamChoice& c : s->choices) labels << c.label;
+      if (static_cast<const RichEnum*>(rp)->enumvalues != labels)
+        problem(QString("'%1' offers '%2', the table '%3'")
+                    .arg(key, static_cast<const RichEnum*>(rp)->enumvalues.join("', '"), labels.join("', '")));
+    }
+    // The tooltip starts with the help (capitalized) and holds the rest.
+    const QString tip = rp->toolTip();
+    QStringList parts{QString::fromUtf8(s->help).mid(1), QString::fromStdString(s->rangeText()), s->unit,
+                      s->details};
+    for (const sodt::ParamChoice& c : s->choices) parts << c.help;
+    for (const QString& part : parts)
+      if (!tip.contains(part)) problem(QString("the tooltip of '%1' lacks '%2': %3").arg(key, part, tip));
   }
   return problems;
 }
@@ -219,7 +285,49 @@ bool writeScript(const QString& path, const QString& filterName, const RichParam
   return f.error() == QFileDevice::NoError;
 }
 
+/// Loads the plugin and fills params with the filter's parameters on an
+/// empty mesh without selection (the defaults a script gets on any mesh).
+/// Prints why and returns false when it cannot.
+bool loadParams(const QString& pluginPath, const QString& filterName, MeshDocument& md, RichParameterList& params) {
+  QPluginLoader loader(pluginPath);
+  QObject* instance = loader.instance();
+  if (instance == nullptr) {
+    std::fprintf(stderr, "cannot load plugin '%s': %s\n", qUtf8Printable(pluginPath),
+                 qUtf8Printable(loader.errorString()));
+    return false;
+  }
+  MeshFilterInterface* filters = qobject_cast<MeshFilterInterface*>(instance);
+  if (filters == nullptr) {
+    std::fprintf(stderr, "'%s' is not a MeshLab 2020.09 filter plugin\n", qUtf8Printable(pluginPath));
+    return false;
+  }
+  QAction* action = nullptr;
+  for (QAction* a : filters->actions())
+    if (a->text() == filterName) action = a;
+  if (action == nullptr) {
+    std::fprintf(stderr, "the plugin has no filter named '%s'\n", qUtf8Printable(filterName));
+    return false;
+  }
+  md.addNewMesh("", "empty");
+  filters->initParameterSet(action, md, params);
+  return true;
+}
+
+/// --check-table.
+int runCheckTable(char** argv) {
+  const QString pluginPath = QFileInfo(QString::fromLocal8Bit(argv[1])).absoluteFilePath();
+  const QString filterName = QString::fromUtf8(argv[2]);
+  MeshDocument md;
+  RichParameterList params;
+  if (!loadParams(pluginPath, filterName, md, params)) return 2;
+  const int problems = checkTable(filterName, params);
+  if (problems == 0)
+    std::printf("the parameters of '%s' are those of sodt::paramTable()\n", qUtf8Printable(filterName));
+  return problems == 0 ? 0 : 1;
+}
+
 int run(int argc, char** argv) {
+  if (argc == 4 && std::strcmp(argv[3], "--check-table") == 0) return runCheckTable(argv);
   if (argc < 5) return usage();
   // QPluginLoader searches the library path for a relative name.
   const QString pluginPath = QFileInfo(QString::fromLocal8Bit(argv[1])).absoluteFilePath();
@@ -236,31 +344,9 @@ int run(int argc, char** argv) {
     overrides.append({kv.left(eq), kv.mid(eq + 1)});
   }
 
-  QPluginLoader loader(pluginPath);
-  QObject* instance = loader.instance();
-  if (instance == nullptr) {
-    std::fprintf(stderr, "cannot load plugin '%s': %s\n", qUtf8Printable(pluginPath),
-                 qUtf8Printable(loader.errorString()));
-    return 2;
-  }
-  MeshFilterInterface* filters = qobject_cast<MeshFilterInterface*>(instance);
-  if (filters == nullptr) {
-    std::fprintf(stderr, "'%s' is not a MeshLab 2020.09 filter plugin\n", qUtf8Printable(pluginPath));
-    return 2;
-  }
-  QAction* action = nullptr;
-  for (QAction* a : filters->actions())
-    if (a->text() == filterName) action = a;
-  if (action == nullptr) {
-    std::fprintf(stderr, "the plugin has no filter named '%s'\n", qUtf8Printable(filterName));
-    return 2;
-  }
-
-  // An empty mesh without selection: the defaults a script gets on any mesh.
   MeshDocument md;
-  md.addNewMesh("", "empty");
   RichParameterList params;
-  filters->initParameterSet(action, md, params);
+  if (!loadParams(pluginPath, filterName, md, params)) return 2;
 
   if (mode == "--write") {
     for (const Override& o : overrides) {

@@ -3,6 +3,7 @@
 classes, errors, repeated runs, selections, flips and threads."""
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -11,13 +12,35 @@ import pytest
 
 from conftest import CLASSIFY, PLUGIN, PYMESHLAB_PATH, SMOOTH, bundled, corner_angles_deg, recover_after_exception
 
-# Python keyword arguments of the smoothing filter and their defaults.
-SMOOTH_DEFAULTS = {
-    "algorithm": 0, "iterations": 20, "guard": 2, "max_backtracks": 4, "laplacian_fallback": True,
-    "max_deviation": 0.1, "epsilon": 2.0, "eta": 2.0, "max_normal_step": 0.05, "flips": False,
-    "flip_max_dihedral": 20.0, "keep_best": False, "tolerance": 0.0, "threads": 0,
-    "selected_only": False, "output_class": True,
-}
+
+
+def table_parameters():
+    """The generated table of docs/parameters.md, which ParamTableDocs checks
+    against sodt::paramTable(): {python key: (type, default as PyMeshLab
+    returns it, (low, high) or None)}."""
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "docs", "parameters.md")
+    text = open(path, encoding="utf-8").read()
+    body = text.split("rewrites it. -->\n", 1)[1].split("<!-- End of the generated table. -->", 1)[0]
+    params = {}
+    for row in body.splitlines()[2:]:
+        cells = [c.strip() for c in re.split(r"(?<!\\)\|", row)[1:-1]]
+        key, kind, default, bounds, meaning = cells[1].strip("`"), cells[3], cells[4], cells[5], cells[6]
+        shown = default.split("`")[1]
+        if kind == "choice":
+            value = int(re.search(r"`%s` \((\d+)\)" % re.escape(shown), meaning).group(1))
+        elif kind == "on/off":
+            value = shown == "on"
+        else:
+            value = float(shown)
+        m = re.match(r"[\[(]([-0-9.e+]+), ([-0-9.e+]+)[\])]", bounds)
+        params[key] = (kind, value, (float(m.group(1)), float(m.group(2))) if m else None)
+    return params
+
+
+TABLE = table_parameters()
+# Python keyword arguments of the smoothing filter and their defaults: the
+# table's, and the filter's own output_class.
+SMOOTH_DEFAULTS = dict({k: v[1] for k, v in TABLE.items()}, output_class=True)
 COUNTERS = ["moved", "backtracked", "fallback_moves", "rejected", "failed_solves", "unchanged"]
 REPORT_INTS = ["vertices", "faces", "smooth", "crease", "corner", "fixed", "fixed_boundary",
                "fixed_nonmanifold", "active_vertices", "sweeps", "returned_sweep", "threads",
@@ -117,6 +140,19 @@ def test_bad_parameters_raise_the_plugins_message_and_leave_the_mesh_unchanged(p
         assert np.array_equal(a, b)
     recover_after_exception(ms)
     assert np.array_equal(ms.current_mesh().vertex_matrix(), state[0])
+
+
+def test_every_table_range_is_enforced_naming_the_key(pm, meshset):
+    ms = meshset(bundled("cube_jitter.ply"))
+    for key, (kind, _, bounds) in TABLE.items():
+        if bounds is None:
+            continue
+        for value in (bounds[0] - 1, bounds[1] * 2 + 1):
+            value = int(value) if kind == "integer" else float(value)
+            with pytest.raises(pm.PyMeshLabException) as exc:
+                ms.apply_filter(SMOOTH, **{key: value})
+            assert key + " must be" in str(exc.value), (key, value, str(exc.value))
+            recover_after_exception(ms)
 
 
 def test_a_mesh_without_faces_is_refused(pm):

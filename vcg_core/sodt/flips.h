@@ -25,7 +25,8 @@ inline double pairMinAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Ve
 
 /// Options of a flip pass.
 struct FlipRules {
-  double maxDihedralRad = 20.0 * kPi / 180.0;  ///< only flip edges whose faces' normals differ by less
+  /// Only flip edges whose faces' normals differ by less (default: SodtParams).
+  double maxDihedralRad = SodtParams{}.flipMaxDihedralDeg * kPi / 180.0;
   const std::vector<VertexClass>* cls = nullptr;  ///< feature edges (both ends crease/corner) are kept
   double minGainRad = 1e-9;                       ///< a flip must raise the pair's min angle by more
   /// Deviation guard (may be null): the new edge and faces must stay within

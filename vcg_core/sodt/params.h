@@ -1,11 +1,20 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Configuration and run statistics of the S-ODT smoother. Plain data, no vcg
-// headers: the plugin, the CLI and the tests all fill SodtParams from here.
+// Configuration and run statistics of the S-ODT smoother, and the table that
+// describes every user-facing parameter once (paramTable()): the CLI, the
+// plugin, validate() and the docs' tables are built from it. No vcg headers.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <functional>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 namespace sodt {
 
@@ -75,15 +84,15 @@ struct SodtParams {
   double epsilon = 2.0;
   /// Corner sensitivity eta of Eq. 10 (> 0): larger finds more corners among the creases.
   double eta = 2.0;
-  /// Basic and Feature: after a move, the vertex and the midpoints of its
-  /// edges must lie within this distance of the input
-  /// surface around it (its one- and two-ring faces in the input mesh; of a
-  /// neighbour with more than 32 faces around it, the 32 beside the
-  /// vertex), as a
-  /// fraction of the bounding-box diagonal (0 disables the check). Keeps
-  /// vertices and faces from cutting across creases and bounds the Hausdorff
-  /// distance to the input. Not used by Denoise, whose purpose is to leave
-  /// the noisy input surface, nor with Guard::None.
+  /// Deviation guard of every algorithm but Denoise: after a move, the
+  /// vertex and the centroids and edge midpoints of its faces must lie within
+  /// this distance of the input surface around it (its one- and two-ring
+  /// faces in the input mesh; of a neighbour with more than 32 faces around
+  /// it, the 32 beside the vertex), as a fraction of the bounding-box
+  /// diagonal (0 disables the check). Keeps vertices and faces from cutting
+  /// across creases and bounds the Hausdorff distance to the input. Not used
+  /// by Denoise, whose purpose is to leave the noisy input surface, nor with
+  /// Guard::None. Shown in percent by the CLI and the plugin (see paramTable()).
   double maxDeviationRel = 0.001;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.
@@ -91,9 +100,10 @@ struct SodtParams {
   /// Only edges whose two faces' normals differ by less than this are
   /// flipped, in degrees (0..90); creases sharper than it are never flipped.
   double flipMaxDihedralDeg = 20.0;
-  /// Return the best state seen (largest minimum angle, then largest 1st
-  /// percentile of the per-triangle minimum angle), the input included,
-  /// instead of the last one.
+  /// Return the best state seen instead of the last one, the input included:
+  /// the fewest faces turned by more than 90 degrees against their input
+  /// orientation, then the largest minimum angle, then the largest 1st
+  /// percentile of the per-triangle minimum angle.
   bool keepBest = false;
   /// Stop early once a sweep raises neither the minimum angle nor the 1st
   /// percentile of the per-triangle minimum angle by more than this many
@@ -103,36 +113,15 @@ struct SodtParams {
   /// one sweep, in units of the mesh's mean edge length. Bounds how far the
   /// surface can drift from the input however many sweeps run.
   double maxNormalStepRel = 0.05;
-  /// Worker threads for the sweeps (0: all hardware threads). Vertices are
-  /// swept colour by colour (no two neighbours share a colour), so the result
-  /// is bit-identical for every thread count.
+  /// Worker threads for the sweeps (0: all hardware threads; see
+  /// resolveThreads()). Vertices are swept colour by colour (no two
+  /// neighbours share a colour), so the result is bit-identical for every
+  /// thread count.
   int threads = 0;
 
-  /// Throws InvalidInput naming the offending parameter.
-  void validate() const {
-    if (iterations < 0 || iterations > 100000)
-      throw InvalidInput("iterations must be in [0, 100000], got " + std::to_string(iterations));
-    if (maxBacktracks < 0 || maxBacktracks > 60)
-      throw InvalidInput("maxBacktracks must be in [0, 60], got " + std::to_string(maxBacktracks));
-    const int g = static_cast<int>(guard);
-    if (g < 0 || g > 2) throw InvalidInput("guard must be none, fold or quality");
-    const int a = static_cast<int>(algorithm);
-    if (a < 0 || a > 4) throw InvalidInput("algorithm must be basic, feature, denoise, odt or laplacian");
-    if (!(epsilon > 0) || !(epsilon < 1e6))
-      throw InvalidInput("epsilon must be a positive number below 1e6, got " + std::to_string(epsilon));
-    if (!(eta > 0) || !(eta < 1e6))
-      throw InvalidInput("eta must be a positive number below 1e6, got " + std::to_string(eta));
-    if (!(maxDeviationRel >= 0) || !(maxDeviationRel <= 1))
-      throw InvalidInput("maxDeviationRel must be in [0, 1], got " + std::to_string(maxDeviationRel));
-    if (!(flipMaxDihedralDeg >= 0) || !(flipMaxDihedralDeg <= 90))
-      throw InvalidInput("flipMaxDihedralDeg must be in [0, 90], got " + std::to_string(flipMaxDihedralDeg));
-    if (!(toleranceDeg >= 0) || !(toleranceDeg <= 180))
-      throw InvalidInput("toleranceDeg must be in [0, 180], got " + std::to_string(toleranceDeg));
-    if (!(maxNormalStepRel >= 0) || !(maxNormalStepRel <= 10))
-      throw InvalidInput("maxNormalStepRel must be in [0, 10], got " + std::to_string(maxNormalStepRel));
-    if (threads < 0 || threads > 1024)
-      throw InvalidInput("threads must be in [0, 1024] (0: all cores), got " + std::to_string(threads));
-  }
+  /// Throws InvalidInput naming the offending field when a value lies
+  /// outside its range in paramTable().
+  void validate() const;
 };
 
 /// Counters of one run; every vertex visit ends in exactly one of
@@ -222,6 +211,334 @@ inline const char* toString(VertexClass c) {
     case VertexClass::Fixed: return "fixed";
   }
   return "?";
+}
+
+// ---------------------------------------------------------------------------
+// The parameter table
+
+/// How a parameter is set, from the type of its SodtParams field.
+enum class ParamType : int {
+  Int,     ///< a count (RichInt; CLI: an integer)
+  Real,    ///< a number, shown in ParamSpec::unit (RichFloat)
+  Bool,    ///< on or off (RichBool; CLI: a switch, or on|off)
+  Choice,  ///< one of ParamSpec::choices (RichEnum; CLI and Python: the choice's name)
+};
+
+/// One value of a Choice parameter; its index is the enum's integer value.
+struct ParamChoice {
+  const char* name;   ///< CLI value, and MeshLab 2025.07 / PyMeshLab entry: "feature"
+  const char* label;  ///< MeshLab 2020.09 dialog entry: "Feature-preserving (Algorithm 2)"
+  const char* help;   ///< one line
+};
+
+/// Bit of an Algorithm in ParamSpec::algorithms.
+constexpr unsigned algorithmBit(Algorithm a) { return 1u << static_cast<int>(a); }
+constexpr unsigned kEveryAlgorithm = 0x1f;
+
+/// One user-facing parameter of a smoothing run: its names in every front
+/// end, type, unit, range and help. The default is the SodtParams{} field's.
+/// Built with the setters below, one per aspect, so that an entry reads as
+/// what it declares.
+struct ParamSpec {
+  const char* field = "";      ///< SodtParams member: "maxDeviationRel"
+  const char* key = "";        ///< MeshLab 2020.09 key (lowerCamelCase, .mlx scripts): "maxDeviation"
+  const char* pythonKey = "";  ///< MeshLab 2025.07 / PyMeshLab key (lower_snake_case): "max_deviation"
+  const char* cliOption = "";  ///< `sodt smooth` option: "--max-deviation"
+  /// Key in the JSON report of `sodt smooth`: pythonKey when "", none when
+  /// nullptr (the report's `threads` are the threads used, not asked for).
+  const char* reportKey = "";
+  /// Placeholder of the option's value in the CLI help ("N", "PERCENT");
+  /// nullptr for a switch (a Bool that is off by default and set by naming it).
+  const char* cliValue = nullptr;
+  const char* label = "";      ///< dialog label: "Max deviation (% of bbox diagonal)"
+  ParamType type = ParamType::Real;
+  const char* unit = "";       ///< unit of the shown value; "" for counts and plain numbers
+  /// Shown value = scale x field value: 100 for a fraction the front ends
+  /// show in percent (the only conversion between them and SodtParams).
+  double scale = 1;
+  double min = 0, max = 0;     ///< range of the field value (Int, Real)
+  bool minOpen = false, maxOpen = false;  ///< the bound itself is excluded
+  const char* help = "";       ///< one line: what it does
+  const char* details = "";    ///< more, for the CLI help and the dialog tooltip ("" if nothing)
+  unsigned algorithms = kEveryAlgorithm;  ///< algorithmBit()s of the algorithms that use it
+  /// The plugin's default is on when the mesh has a selection (selectedOnly).
+  bool defaultOnWithSelection = false;
+  std::vector<ParamChoice> choices;  ///< Choice: entry i is the enum value i
+  std::function<double(const SodtParams&)> get;  ///< field value (an enum as its integer)
+  std::function<void(SodtParams&, double)> set;  ///< sets the field from such a value
+
+  /// The field, its type, get and set.
+  template <class T>
+  ParamSpec& bind(const char* name, T SodtParams::*m) {
+    field = name;
+    type = typeOf(static_cast<T*>(nullptr));
+    get = [m](const SodtParams& p) { return toNumber(p.*m); };
+    set = [m](SodtParams& p, double v) { p.*m = fromNumber(v, static_cast<T*>(nullptr)); };
+    return *this;
+  }
+  ParamSpec& keys(const char* ml2020, const char* python) { key = ml2020; pythonKey = python; return *this; }
+  ParamSpec& cli(const char* option, const char* value) { cliOption = option; cliValue = value; return *this; }
+  ParamSpec& dialog(const char* text) { label = text; return *this; }
+  ParamSpec& reportAs(const char* k) { reportKey = k; return *this; }
+  /// The key in the JSON report.
+  const char* reportName() const { return reportKey != nullptr && reportKey[0] == '\0' ? pythonKey : reportKey; }
+  ParamSpec& range(double lo, double hi, bool loOpen = false, bool hiOpen = false) {
+    min = lo; max = hi; minOpen = loOpen; maxOpen = hiOpen;
+    return *this;
+  }
+  ParamSpec& shownIn(const char* u, double s = 1) { unit = u; scale = s; return *this; }
+  ParamSpec& usedBy(unsigned bits) { algorithms = bits; return *this; }
+  ParamSpec& describe(const char* line, const char* more = "") { help = line; details = more; return *this; }
+  ParamSpec& choose(std::vector<ParamChoice> c) { choices = std::move(c); return *this; }
+  ParamSpec& onWithSelectionInPlugin() { defaultOnWithSelection = true; return *this; }
+
+  /// The value the front ends show for a field value (percent for a fraction).
+  double shown(double fieldValue) const { return fieldValue * scale; }
+  /// The field value of a shown value.
+  double fromShown(double shownValue) const { return shownValue / scale; }
+  /// p's value as shown.
+  double shownValue(const SodtParams& p) const { return shown(get(p)); }
+  /// Sets p's field from a shown value (checked beforehand with check()).
+  void setShown(SodtParams& p, double shownValue) const { set(p, fromShown(shownValue)); }
+
+  /// Shortest text of a number: "2", "0.05", "1e6".
+  static std::string numberText(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", x);
+    std::string s(buf);
+    const std::size_t e = s.find("e+");
+    if (e != std::string::npos) {  // "1e+06" -> "1e6"
+      std::size_t d = e + 2;
+      while (d + 1 < s.size() && s[d] == '0') ++d;
+      s = s.substr(0, e + 1) + s.substr(d);
+    }
+    return s;
+  }
+
+  /// A shown value as a user writes it: "20", "0.1", "on", "quality".
+  std::string valueText(double shownValue) const {
+    switch (type) {
+      case ParamType::Bool: return shownValue != 0 ? "on" : "off";
+      case ParamType::Choice: {
+        const int i = static_cast<int>(shownValue);
+        return i >= 0 && i < static_cast<int>(choices.size()) ? choices[i].name : "?";
+      }
+      default: return numberText(shownValue);
+    }
+  }
+  /// The default (SodtParams{}) as shown.
+  std::string defaultText() const { return valueText(shownValue(SodtParams{})); }
+
+  /// The range of the shown value: "[0, 100]", "(0, 1e6)"; "" for Bool and
+  /// Choice. With shownUnits false, of the field value.
+  std::string rangeText(bool shownUnits = true) const {
+    if (type == ParamType::Bool || type == ParamType::Choice) return "";
+    const double k = shownUnits ? scale : 1;
+    return std::string(minOpen ? "(" : "[") + numberText(min * k) + ", " + numberText(max * k) + (maxOpen ? ")" : "]");
+  }
+  /// "none, fold or quality".
+  std::string choiceList() const {
+    std::string s;
+    for (std::size_t i = 0; i < choices.size(); ++i)
+      s += std::string(i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i].name;
+    return s;
+  }
+
+  /// Throws InvalidInput "NAME must be ..., got V" unless v lies in the
+  /// range: a shown value (shownUnits, the message gives the unit), else a
+  /// field value. NAME is how the caller's user spells the parameter.
+  void check(double v, const std::string& name, bool shownUnits = true) const {
+    const double k = shownUnits ? scale : 1;
+    bool ok = true;
+    switch (type) {
+      case ParamType::Bool: return;
+      case ParamType::Choice:
+        if (!(v >= 0 && v < static_cast<double>(choices.size()) && v == std::floor(v)))
+          throw InvalidInput(name + " must be " + choiceList() + ", got " + numberText(v));
+        return;
+      case ParamType::Int: ok = v == std::floor(v); break;
+      case ParamType::Real: ok = std::isfinite(v); break;
+    }
+    const double lo = min * k, hi = max * k;
+    ok = ok && (minOpen ? v > lo : v >= lo) && (maxOpen ? v < hi : v <= hi);
+    if (ok) return;
+    std::string what;
+    if (minOpen && maxOpen && min == 0)
+      what = "a positive number below " + numberText(hi);
+    else
+      what = "in " + rangeText(shownUnits);
+    const std::string u = shownUnits && unit[0] != '\0' ? std::string(" (") + unit + ")" : "";
+    throw InvalidInput(name + " must be " + what + u + ", got " + numberText(v));
+  }
+
+  /// The choice named s; throws InvalidInput naming the parameter otherwise.
+  int choiceIndex(const std::string& s, const std::string& name) const {
+    for (std::size_t i = 0; i < choices.size(); ++i)
+      if (s == choices[i].name) return static_cast<int>(i);
+    throw InvalidInput("unknown " + name + " '" + s + "' (expected " + choiceList() + ")");
+  }
+
+ private:
+  static ParamType typeOf(int*) { return ParamType::Int; }
+  static ParamType typeOf(double*) { return ParamType::Real; }
+  static ParamType typeOf(bool*) { return ParamType::Bool; }
+  template <class E>
+  static ParamType typeOf(E*) {
+    static_assert(std::is_enum<E>::value, "a parameter is an int, a double, a bool or an enum");
+    return ParamType::Choice;
+  }
+  template <class T>
+  static double toNumber(T v) { return static_cast<double>(static_cast<long long>(v)); }
+  static double toNumber(double v) { return v; }
+  static int fromNumber(double v, int*) { return static_cast<int>(v); }
+  static double fromNumber(double v, double*) { return v; }
+  static bool fromNumber(double v, bool*) { return v != 0; }
+  template <class E>
+  static E fromNumber(double v, E*) { return static_cast<E>(static_cast<int>(v)); }
+};
+
+/// Every user-facing parameter of a smoothing run, in the order of the
+/// plugin's dialog (and of `sodt smooth --help`).
+inline const std::vector<ParamSpec>& paramTable() {
+  static const std::vector<ParamSpec> table = [] {
+    const unsigned feature = algorithmBit(Algorithm::Feature), denoise = algorithmBit(Algorithm::Denoise);
+    std::vector<ParamSpec> t(15);
+    t[0].bind("algorithm", &SodtParams::algorithm).keys("algorithm", "algorithm").cli("--algorithm", "NAME")
+        .dialog("Algorithm")
+        .describe("vertex update rule")
+        .choose({{toString(Algorithm::Basic), "Basic (Algorithm 1)",
+                  "paper Algorithm 1: every interior vertex moves in its tangent plane to the closed-form "
+                  "minimiser of the suboptimal ODT energy of its one-ring (Eqs. 5-8); no feature handling"},
+                 {toString(Algorithm::Feature), "Feature-preserving (Algorithm 2)",
+                  "Algorithm 2: the vertices are classified once, on the input, by their normal tensor "
+                  "(Eqs. 9-10, see epsilon and eta); corners stay fixed, crease vertices slide along their "
+                  "crease, smooth vertices move as with basic"},
+                 {toString(Algorithm::Denoise), "Feature-preserving denoising (Algorithm 3)",
+                  "Algorithm 3: removes noise while keeping creases and corners: smooth vertices move on "
+                  "planes fitted to their neighbours (Eqs. 12-13), crease vertices on fitted crease lines"},
+                 {toString(Algorithm::Odt), "Reference: numerical ODT (Eq. 3)",
+                  "reference: the 'optimal' ODT of Eq. 3 with true triangle areas, minimised numerically in "
+                  "the tangent plane (similar quality, slower)"},
+                 {toString(Algorithm::Laplacian), "Reference: Laplacian (Eq. 3, S'k = 1)",
+                  "reference: the one-ring centroid (Eq. 3 with S'k = 1); leaves the tangent plane, so it "
+                  "shrinks the surface"}});
+    t[1].bind("iterations", &SodtParams::iterations).keys("iterations", "iterations").cli("--iterations", "N")
+        .dialog("Iterations").range(0, 100000)
+        .describe("Gauss-Seidel sweeps over all movable vertices",
+                  "Each sweep visits every vertex once; more sweeps improve the angles further, with "
+                  "diminishing returns. 0 leaves the mesh unchanged.");
+    t[2].bind("guard", &SodtParams::guard).keys("guard", "guard").cli("--guard", "G").dialog("Guard")
+        .describe("check applied to every proposed move before it is committed")
+        .choose({{toString(Guard::None), "None (paper, literal)",
+                  "commit every solved move, as the paper does (on poor input this can fold triangles)"},
+                 {toString(Guard::Fold), "Fold",
+                  "reject a move that flips or collapses an incident triangle or turns it by more than 90 "
+                  "degrees from its input orientation"},
+                 {toString(Guard::Quality), "Quality",
+                  "as fold, and the smallest angle of the vertex's one-ring may not decrease"}});
+    t[3].bind("maxBacktracks", &SodtParams::maxBacktracks).keys("maxBacktracks", "max_backtracks")
+        .cli("--max-backtracks", "N").dialog("Max backtracks").range(0, 60)
+        .describe("halvings of a step vetoed by the guard before the vertex is left where it is",
+                  "0 means all or nothing. Unused with guard none.");
+    t[4].bind("laplacianFallback", &SodtParams::laplacianFallback).keys("laplacianFallback", "laplacian_fallback")
+        .cli("--laplacian-fallback", "on|off").dialog("Laplacian fallback")
+        .describe("when the guard vetoes the S-ODT step (or the vertex already sits at its S-ODT optimum), "
+                  "try the tangential Laplacian step under the same guard",
+                  "That step is the S'k = 1 case of Eq. 3, in the same tangent plane (along the crease for "
+                  "crease vertices). It lifts the minimum angle much further on sliver meshes. Unused with "
+                  "guard none.");
+    t[5].bind("maxDeviationRel", &SodtParams::maxDeviationRel).keys("maxDeviation", "max_deviation")
+        .cli("--max-deviation", "PERCENT").reportAs("max_deviation_percent").dialog("Max deviation (% of bbox diagonal)")
+        .shownIn("percent of the bounding-box diagonal", 100).range(0, 1)
+        .usedBy(kEveryAlgorithm & ~denoise)
+        .describe("deviation guard: after a move, the vertex and the centroids and edge midpoints of its "
+                  "faces must stay this close to the input surface around the vertex (0 disables it)",
+                  "A step that would leave that bound is shortened or rejected like any guard veto. It keeps "
+                  "faces from cutting across creases and bounds the distance to the input. The surface "
+                  "around a vertex is its one- and two-ring faces in the input mesh (of a neighbour with "
+                  "more than 32 faces around it, the 32 beside the vertex). Unused by denoise, whose "
+                  "purpose is to leave the noisy surface, and with guard none.");
+    t[6].bind("epsilon", &SodtParams::epsilon).keys("epsilon", "epsilon").cli("--epsilon", "X")
+        .dialog("Crease sensitivity (epsilon)").range(0, 1e6, true, true).usedBy(feature | denoise)
+        .describe("crease sensitivity epsilon of Eq. 10: larger finds more creases",
+                  "A vertex is a crease when epsilon (nu2 - nu3) is the largest of nu1 - nu2, "
+                  "epsilon (nu2 - nu3) and epsilon eta nu3, where nu1 >= nu2 >= nu3 are the eigenvalues "
+                  "of its normal tensor. Where two flat sides meet (with equal weight in the tensor), a "
+                  "vertex is a crease when the angle between their normals exceeds "
+                  "acos(epsilon / (epsilon + 2)): 60 deg for 2 (the paper's value), 45 deg for 4.83, "
+                  "70.5 deg for 1.");
+    t[7].bind("eta", &SodtParams::eta).keys("eta", "eta").cli("--eta", "X").dialog("Corner sensitivity (eta)")
+        .range(0, 1e6, true, true).usedBy(feature | denoise)
+        .describe("corner sensitivity eta of Eq. 10: larger turns more crease vertices into corners",
+                  "A vertex is a corner (where three or more sides meet) when epsilon eta nu3 is the "
+                  "largest of the three terms of Eq. 10. Corners never move. The paper uses 2.");
+    t[8].bind("maxNormalStepRel", &SodtParams::maxNormalStepRel).keys("maxNormalStep", "max_normal_step")
+        .cli("--max-normal-step", "X").dialog("Max normal step (x mean edge)")
+        .shownIn("mean edge lengths").range(0, 10).usedBy(denoise)
+        .describe("largest move of a vertex per sweep along the normal of its fitted plane (smooth vertices) "
+                  "or across its fitted crease line (crease vertices)",
+                  "Bounds how far the surface drifts from the input however many sweeps run; larger values "
+                  "remove stronger noise, 0 removes none.");
+    t[9].bind("flips", &SodtParams::flips).keys("flips", "flips").cli("--flips", nullptr).reportAs("flips_enabled")
+        .dialog("Edge flips")
+        .describe("flip edges between sweeps; this changes the connectivity (the vertex and face counts "
+                  "stay), which the paper keeps",
+                  "After each sweep an interior edge is flipped only when its two triangles are nearly "
+                  "coplanar (see flip max dihedral) and the smaller angle of the pair grows; never a "
+                  "crease edge of feature or denoise (both ends crease or corner vertices), never onto an "
+                  "existing edge (which would make it non-manifold), never into a fold, and with selected "
+                  "only never unless both faces are selected or have all their vertices selected. Lifts "
+                  "the minimum angle further than moving vertices alone.");
+    t[10].bind("flipMaxDihedralDeg", &SodtParams::flipMaxDihedralDeg).keys("flipMaxDihedral", "flip_max_dihedral")
+        .cli("--flip-max-dihedral", "DEG").dialog("Flip max dihedral (deg)").shownIn("degrees").range(0, 90)
+        .describe("with flips: only edges whose two faces' normals differ by less than this are flipped",
+                  "Sharper edges are never flipped, so that flips do not change the shape.");
+    t[11].bind("keepBest", &SodtParams::keepBest).keys("keepBest", "keep_best").cli("--keep-best", nullptr)
+        .dialog("Keep best")
+        .describe("return the best state seen instead of the last one: the fewest faces turned by more than "
+                  "90 degrees against their input orientation, then the largest smallest angle, then the "
+                  "largest 1st percentile of the per-triangle smallest angle",
+                  "The input is a candidate, so the result is never worse than the input by this order.");
+    t[12].bind("toleranceDeg", &SodtParams::toleranceDeg).keys("tolerance", "tolerance").cli("--tolerance", "DEG")
+        .dialog("Tolerance (deg)").shownIn("degrees").range(0, 180)
+        .describe("stop early once a sweep raises neither the smallest angle nor the 1st percentile of the "
+                  "per-triangle smallest angle by more than this (0 runs every sweep)");
+    t[13].bind("threads", &SodtParams::threads).keys("threads", "threads").cli("--threads", "N").reportAs(nullptr)
+        .dialog("Threads").range(0, 1024)
+        .describe("worker threads for the sweeps (0: all hardware threads; a build without OpenMP uses one)",
+                  "Vertices are swept colour by colour, never two neighbours at once, so the result is "
+                  "bit-identical for every thread count: only the run time changes.");
+    t[14].bind("selectedOnly", &SodtParams::selectedOnly).keys("selectedOnly", "selected_only")
+        .cli("--selected-only", nullptr).dialog("Affect only selection").onWithSelectionInPlugin()
+        .describe("move only the selected vertices (the others stay fixed but still shape their "
+                  "neighbours' one-rings)");
+    return t;
+  }();
+  return table;
+}
+
+/// The entry of a SodtParams field ("maxDeviationRel"); throws
+/// std::logic_error for a name the table does not have.
+inline const ParamSpec& paramSpec(const char* field) {
+  for (const ParamSpec& s : paramTable())
+    if (std::strcmp(s.field, field) == 0) return s;
+  throw std::logic_error(std::string("no parameter '") + field + "' in sodt::paramTable()");
+}
+
+inline void SodtParams::validate() const {
+  for (const ParamSpec& s : paramTable()) s.check(s.get(*this), s.field, false);
+}
+
+/// The worker threads a run asking for `requested` (SodtParams::threads)
+/// uses: all hardware threads for 0, and 1 in a build without OpenMP.
+inline int resolveThreads(int requested) {
+#ifdef _OPENMP
+  if (requested > 0) return requested;
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+#else
+  (void)requested;
+  return 1;
+#endif
 }
 
 }  // namespace sodt

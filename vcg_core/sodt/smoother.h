@@ -25,7 +25,6 @@
 
 #include <chrono>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace sodt {
@@ -154,18 +153,6 @@ struct SodtSmoother {
     const RingTopology before = std::move(w.topo);
     w.topo = buildRingTopology(w.faces, w.deleted);
     sweeper.connectivityChanged(before, flippedVertices);
-  }
-
-  /// The thread count a run uses: p.threads, or all hardware threads for 0;
-  /// 1 when the build has no OpenMP.
-  static int resolveThreads(int requested) {
-#ifdef _OPENMP
-    if (requested > 0) return requested;
-    return std::max(1u, std::thread::hardware_concurrency());
-#else
-    (void)requested;
-    return 1;
-#endif
   }
 };
 

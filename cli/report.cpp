@@ -1,0 +1,377 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The measures, summaries and JSON reports of `sodt smooth`, `sodt classify`
+// and `sodt stats` (see report.h).
+#include "report.h"
+
+#include <sodt/output.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#ifndef SODT_VERSION
+#define SODT_VERSION "unknown"
+#endif
+
+namespace sodt_cli {
+
+namespace {
+
+/// The deviation bound, in percent in the summary and the report.
+const sodt::ParamSpec& maxDeviation = sodt::paramSpec("maxDeviationRel");
+
+/// Writes the members of one measures object (inside an open object).
+void writeMeasures(sodt::JsonWriter& j, const Measures& s) {
+  j.member("closed", s.volume.closed);
+  j.member("min_angle", s.angles.minDeg);
+  j.member("max_angle", s.angles.maxDeg);
+  j.member("angle_histogram", s.angles.histogram);
+  j.member("frac_below_30", s.angles.fracBelow30);
+  j.member("frac_above_90", s.angles.fracAbove90);
+  j.member("p1_tri_min_angle", s.angles.p1TriMinDeg);
+  if (s.volume.closed)
+    j.member("volume", s.volume.volume);
+  else
+    j.memberNull("volume");
+}
+
+/// Writes hausdorff_rel, mean_distance_rel (null when unknown) and
+/// hausdorff_is_lower_bound, all three null when the distance was not measured.
+void writeDistance(sodt::JsonWriter& j, const Distance& d) {
+  if (!d.measured) {
+    j.memberNull("hausdorff_rel").memberNull("mean_distance_rel").memberNull("hausdorff_is_lower_bound");
+    return;
+  }
+  j.member("hausdorff_rel", d.hausdorff);
+  j.member("mean_distance_rel", d.mean);
+  j.member("hausdorff_is_lower_bound", d.lowerBound);
+}
+
+/// Writes "classes": {"smooth": n, "crease": n, "corner": n, "fixed": n}.
+void writeClassCounts(sodt::JsonWriter& j, const sodt::Classification& c) {
+  j.key("classes").beginObject();
+  for (int k = 0; k < 4; ++k) j.member(sodt::toString(static_cast<sodt::VertexClass>(k)), c.count[k]);
+  j.endObject();
+}
+
+/// "smooth 1200, crease 80, corner 8, fixed 0".
+std::string classCountsText(const sodt::Classification& c) {
+  std::string s;
+  for (int k = 0; k < 4; ++k)
+    s += std::string(k ? ", " : "") + sodt::toString(static_cast<sodt::VertexClass>(k)) + " " +
+         std::to_string(c.count[k]);
+  return s;
+}
+
+/// Writes the parameters of a run, each under its report key in
+/// sodt::paramTable(), as shown (maxDeviation in percent).
+void writeParameters(sodt::JsonWriter& j, const sodt::SodtParams& p) {
+  for (const sodt::ParamSpec& s : sodt::paramTable()) {
+    if (s.reportName() == nullptr) continue;
+    const double v = s.shownValue(p);
+    switch (s.type) {
+      case sodt::ParamType::Int: j.member(s.reportName(), static_cast<int>(v)); break;
+      case sodt::ParamType::Real: j.member(s.reportName(), v); break;
+      case sodt::ParamType::Bool: j.member(s.reportName(), v != 0); break;
+      case sodt::ParamType::Choice: j.member(s.reportName(), s.valueText(v)); break;
+    }
+  }
+}
+
+/// Writes the members every command's report starts with.
+void writeRunHeader(sodt::JsonWriter& j, const std::string& in, const std::string& out, const MeshD& m) {
+  j.member("sodt_version", SODT_VERSION);
+  j.member("input", in);
+  j.member("output", out);
+  j.member("vertices", m.vn);
+  j.member("faces", m.fn);
+}
+
+/// "12.34%".
+std::string percent(double frac) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2f%%", 100.0 * frac);
+  return b;
+}
+
+}  // namespace
+
+Measures measure(const MeshD& m, int threads) {
+  Measures r;
+  r.angles = sodt::computeAngleStats(m, threads);
+  r.volume = sodt::enclosedVolume(m, threads);
+  return r;
+}
+
+
+
+
+
+template <class RefMesh>
+Distance distanceTo(MeshD& m, RefMesh& ref, int threads) {
+  // The surfaces only: unreferenced vertices are neither measured nor the
+  // measure's scale.
+  const vcg::Box3d box = sodt::surfaceBox(ref);
+  const double diag = box.Diag();
+  std::vector<char> onSurface(m.vert.size(), 0);
+  for (const auto& f : m.face)
+    if (!f.IsD())
+      for (int j = 0; j < 3; ++j) onSurface[static_cast<std::size_t>(f.cV(j) - &m.vert[0])] = 1;
+  double far = 0;
+  for (std::size_t i = 0; i < m.vert.size(); ++i) {
+    const auto& v = m.vert[i];
+    if (v.IsD() || !onSurface[i]) continue;
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double e = std::max({box.min[k] - v.cP()[k], 0.0, v.cP()[k] - box.max[k]});
+      d2 += e * e;
+    }
+    far = std::max(far, std::sqrt(d2));
+  }
+  Distance r;
+  if (diag > 0 && far > diag) {
+    r.hausdorff = far / diag;
+    r.mean = std::numeric_limits<double>::quiet_NaN();
+    r.lowerBound = true;
+    return r;
+  }
+  const sodt::DistanceStats d = sodt::surfaceDistanceInPlace(m, ref, threads);
+  r.hausdorff = d.maxRel;
+  r.mean = d.meanRel;
+  return r;
+}
+
+template Distance distanceTo(MeshD&, sodt::SampleMesh&, int);
+template Distance distanceTo(MeshD&, MeshD&, int);
+
+InputGeometry keepInput(const MeshD& m, bool facesMayChange) {
+  InputGeometry g;
+  g.positions.reserve(m.vert.size());
+  for (const auto& v : m.vert) g.positions.push_back(v.cP());
+  g.facesKept = facesMayChange;
+  if (facesMayChange) {
+    g.faces.reserve(m.face.size());
+    for (const auto& f : m.face)
+      g.faces.push_back({{int(f.cV(0) - &m.vert[0]), int(f.cV(1) - &m.vert[0]), int(f.cV(2) - &m.vert[0])}});
+  }
+  return g;
+}
+
+void rebuildInput(InputGeometry& input, const MeshD& m, sodt::SampleMesh& ref) {
+  ref.Clear();
+  vcg::tri::Allocator<sodt::SampleMesh>::AddVertices(ref, input.positions.size());
+  for (std::size_t i = 0; i < input.positions.size(); ++i) ref.vert[i].P() = input.positions[i];
+  std::vector<vcg::Point3d>().swap(input.positions);
+  const std::size_t nf = input.facesKept ? input.faces.size() : m.face.size();
+  vcg::tri::Allocator<sodt::SampleMesh>::AddFaces(ref, nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int j = 0; j < 3; ++j)
+      ref.face[f].V(j) =
+          &ref.vert[input.facesKept ? std::size_t(input.faces[f][j]) : std::size_t(m.face[f].cV(j) - &m.vert[0])];
+  std::vector<std::array<int, 3>>().swap(input.faces);
+}
+
+
+void saveClassMesh(sodt::PendingFile& f, MeshD& m, const sodt::Classification& c) {
+  sodt::writeClassToQuality(m, c);
+  sodt::colorizeByClass(m, c);
+  sodt::SaveOptions so;
+  so.vertexQuality = true;
+  so.vertexColor = true;
+  sodt::saveMesh(f, m, so);
+}
+
+
+
+
+void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResult& r) {
+  const Measures& before = r.before;
+  const Measures& after = r.after;
+  const Distance& dist = r.distance;
+  const sodt::SodtStats& st = r.stats;
+  const long long inverted = r.inverted;
+  std::printf("sodt smooth: %s -> %s\n", o.in.c_str(), o.out.c_str());
+  std::printf("  mesh           %d vertices, %d triangles, %s\n", m.vn, m.fn,
+              before.volume.closed ? "closed" : "open or not consistently oriented");
+  std::printf("  min angle      %.3f -> %.3f deg\n", before.angles.minDeg, after.angles.minDeg);
+  std::printf("  max angle      %.3f -> %.3f deg\n", before.angles.maxDeg, after.angles.maxDeg);
+  std::printf("  angles < 30    %s -> %s\n", percent(before.angles.fracBelow30).c_str(),
+              percent(after.angles.fracBelow30).c_str());
+  std::printf("  angles > 90    %s -> %s\n", percent(before.angles.fracAbove90).c_str(),
+              percent(after.angles.fracAbove90).c_str());
+  std::printf("  p1 tri min     %.3f -> %.3f deg\n", before.angles.p1TriMinDeg, after.angles.p1TriMinDeg);
+  if (before.volume.closed && after.volume.closed) {
+    const double rel = before.volume.volume != 0
+                           ? (after.volume.volume - before.volume.volume) / std::fabs(before.volume.volume)
+                           : 0.0;
+    std::printf("  volume         %.10g -> %.10g (relative change %+.3e)\n", before.volume.volume,
+                after.volume.volume, rel);
+  } else {
+    std::printf("  volume         n/a (mesh not closed)\n");
+  }
+  if (!dist.measured)
+    std::printf("  distance       not measured (--distance off)\n");
+  else if (dist.lowerBound)
+    std::printf("  distance       Hausdorff >= %.3e of the input's bbox diagonal (the output left the input's box)\n",
+                dist.hausdorff);
+  else
+    std::printf("  distance       Hausdorff %.3e, mean %.3e (relative to the input's bbox diagonal)\n",
+                dist.hausdorff, dist.mean);
+  if (inverted >= 0)
+    std::printf("  inverted       %lld faces turned by more than 90 deg\n", inverted);
+  else
+    std::printf("  inverted       n/a (%s)\n",
+                st.flips > 0 ? "connectivity changed by flips" : "the faces differ from the input's");
+  std::printf("  vertex visits  moved %lld, backtracked %lld, Laplacian fallback %lld, rejected %lld, failed %lld, "
+              "unchanged %lld; %lld repeated their previous visit (nothing in their star had moved)\n",
+              st.moved, st.backtracked, st.fallbackMoves, st.rejected, st.failedSolves, st.unchanged, st.skipped);
+  std::printf("  fixed          %d boundary, %d non-manifold; %d vertices active\n", st.fixedBoundary,
+              st.fixedNonManifold, st.activeVertices);
+  if (st.reorientedFaces > 0)
+    std::printf("  winding        %d faces turned over so that each part of the mesh has one winding "
+                "(written so)\n", st.reorientedFaces);
+  std::printf("  classes        %s%s\n", classCountsText(r.classes).c_str(),
+              o.params.algorithm == sodt::Algorithm::Basic ? " (basic does not classify)" : "");
+  std::printf("  smoothing      %.3f s for %d sweeps on %d thread%s (algorithm %s, guard %s, max backtracks %d)\n",
+              r.seconds, st.iterations, st.threads, st.threads == 1 ? "" : "s", sodt::toString(o.params.algorithm),
+              sodt::toString(o.params.guard), o.params.maxBacktracks);
+  const sodt::Algorithm a = o.params.algorithm;
+  const char* unused = " (unused)";
+  std::printf("  parameters     epsilon %s (creases above %.1f deg), eta %s%s; max deviation %s%% of the bbox "
+              "diagonal%s; max normal step %s mean edges%s\n",
+              numberText(o.params.epsilon).c_str(), creaseAngleDeg(o.params.epsilon),
+              numberText(o.params.eta).c_str(), a == sodt::Algorithm::Basic ? unused : "",
+              numberText(maxDeviation.shownValue(o.params)).c_str(),
+              a == sodt::Algorithm::Denoise || o.params.guard == sodt::Guard::None ? unused : "",
+              numberText(o.params.maxNormalStepRel).c_str(), a != sodt::Algorithm::Denoise ? unused : "");
+  if (o.params.flips)
+    std::printf("  flips          %lld edges flipped (max dihedral %s deg)%s\n", st.flips,
+                numberText(o.params.flipMaxDihedralDeg).c_str(),
+                inverted >= 0 && st.flips > 0 ? "; the returned state has the input's connectivity" : "");
+  else
+    std::printf("  flips          off\n");
+  std::printf("  returned       the state after sweep %d of %d (keep best %s)", st.returnedSweep, st.iterations,
+              o.params.keepBest ? "on" : "off");
+  if (st.stoppedEarly)
+    std::printf("; stopped early: the last sweep raised the min angle and p1 by at most %s deg\n",
+                numberText(o.params.toleranceDeg).c_str());
+  else if (o.params.toleranceDeg > 0)
+    std::printf("; tolerance %s deg not reached\n", numberText(o.params.toleranceDeg).c_str());
+  else
+    std::printf("\n");
+  if (!o.classesOut.empty()) std::printf("  classes out    %s\n", o.classesOut.c_str());
+}
+
+std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothResult& r) {
+  const Measures& before = r.before;
+  const Measures& after = r.after;
+  const Distance& dist = r.distance;
+  const sodt::SodtStats& st = r.stats;
+  const long long inverted = r.inverted;
+  sodt::JsonWriter j;
+  j.beginObject();
+  writeRunHeader(j, o.in, o.out, m);
+  writeParameters(j, o.params);
+  j.member("distance_measured", dist.measured);
+  if (o.classesOut.empty())
+    j.memberNull("classes_output");
+  else
+    j.member("classes_output", o.classesOut);
+  j.member("sweeps", st.iterations);
+  j.member("returned_sweep", st.returnedSweep);
+  j.member("stopped_early", st.stoppedEarly);
+  j.member("flips", st.flips);
+  j.member("reoriented_faces", st.reorientedFaces);
+  j.member("seconds", r.seconds);
+  j.member("threads", st.threads);
+  j.member("min_angle_before", before.angles.minDeg);
+  j.member("min_angle_after", after.angles.minDeg);
+  j.member("max_angle_before", before.angles.maxDeg);
+  j.member("max_angle_after", after.angles.maxDeg);
+  const bool closed = before.volume.closed && after.volume.closed;
+  if (closed) {
+    j.member("volume_before", before.volume.volume);
+    j.member("volume_after", after.volume.volume);
+    if (before.volume.volume != 0)
+      j.member("volume_rel_change",
+               (after.volume.volume - before.volume.volume) / std::fabs(before.volume.volume));
+    else
+      j.memberNull("volume_rel_change");
+  } else {
+    j.memberNull("volume_before").memberNull("volume_after").memberNull("volume_rel_change");
+  }
+  writeDistance(j, dist);
+  if (inverted >= 0)
+    j.member("inverted_faces", inverted);
+  else
+    j.memberNull("inverted_faces");
+  j.member("moved", st.moved);
+  j.member("backtracked", st.backtracked);
+  j.member("fallback_moves", st.fallbackMoves);
+  j.member("rejected", st.rejected);
+  j.member("failed_solves", st.failedSolves);
+  j.member("unchanged", st.unchanged);
+  j.member("skipped_visits", st.skipped);
+  j.member("deviation_queries", st.deviationQueries);
+  j.member("deviation_reused", st.deviationReused);
+  j.member("lane_visits", st.laneVisits);
+  j.member("active_vertices", st.activeVertices);
+  j.member("fixed_boundary", st.fixedBoundary);
+  j.member("fixed_nonmanifold", st.fixedNonManifold);
+  j.member("cancelled", st.cancelled);
+  writeClassCounts(j, r.classes);
+  j.key("before").beginObject();
+  writeMeasures(j, before);
+  j.endObject();
+  j.key("after").beginObject();
+  writeMeasures(j, after);
+  j.endObject();
+  j.endObject();
+  return j.str();
+}
+
+void printClassifySummary(const ClassifyOptions& o, const MeshD& m, const sodt::Classification& c) {
+  std::printf("sodt classify: %s -> %s\n", o.in.c_str(), o.out.c_str());
+  std::printf("  mesh           %d vertices, %d triangles\n", m.vn, m.fn);
+  std::printf("  parameters     epsilon %s (creases above %.1f deg), eta %s\n", numberText(o.params.epsilon).c_str(),
+              creaseAngleDeg(o.params.epsilon), numberText(o.params.eta).c_str());
+  std::printf("  classes        %s\n", classCountsText(c).c_str());
+  std::printf("  quality        0 smooth, 1 crease, 2 corner, 3 fixed (border or non-manifold)\n");
+}
+
+std::string classifyReport(const ClassifyOptions& o, const MeshD& m, const sodt::Classification& c) {
+  sodt::JsonWriter j;
+  j.beginObject();
+  writeRunHeader(j, o.in, o.out, m);
+  j.member("epsilon", o.params.epsilon);
+  j.member("eta", o.params.eta);
+  j.member("crease_angle_deg", creaseAngleDeg(o.params.epsilon));
+  writeClassCounts(j, c);
+  j.endObject();
+  return j.str();
+}
+
+std::string statsReport(const StatsOptions& o, MeshD& m, MeshD* ref, int threads) {
+  const Measures s = measure(m, threads);
+  sodt::JsonWriter j;
+  j.beginObject();
+  j.member("input", o.in);
+  j.member("vertices", m.vn);
+  j.member("faces", m.fn);
+  writeMeasures(j, s);
+  if (ref != nullptr) {
+    const Distance d = distanceTo(m, *ref, threads);
+    const long long inv = (m.vn == ref->vn && m.fn == ref->fn) ? sodt::countInvertedFaces(m, *ref, threads) : -1;
+    j.member("reference", o.reference);
+    writeDistance(j, d);
+    if (inv >= 0)
+      j.member("inverted_faces", inv);
+    else
+      j.memberNull("inverted_faces");
+  }
+  j.endObject();
+  return j.str();
+}
+
+}  // namespace sodt_cli
