@@ -677,6 +677,487 @@ void checkPlyHeader(const std::string& file, const std::string& path) {
   }
 }
 
+// ---------------------------------------------------------------------------
+// PLY structure check: the header model, its strict reader, the element
+// checks and the body walker behind checkPlyStructure
+
+/// Throws InvalidInput "'path': PLY parse error: why".
+[[noreturn]] void plyParseError(const std::string& path, const std::string& why) {
+  throw InvalidInput(quoted(path) + ": PLY parse error: " + why);
+}
+
+/// Size in bytes of a PLY scalar type; 0 for a name PLY does not define.
+int plyTypeSize(const std::string& t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+bool plyTypeSigned(const std::string& t) {
+  return t == "char" || t == "short" || t == "int" || t == "int8" || t == "int16" || t == "int32";
+}
+
+bool plyTypeFloat(const std::string& t) { return t == "float" || t == "double" || t == "float32" || t == "float64"; }
+
+/// One 'property' line of a PLY header, with what the checks need of its types.
+struct PlyProperty {
+  bool list = false;
+  std::string countType, valueType;  ///< countType is empty for a scalar
+  int countSize = 0, valueSize = 0;  ///< plyTypeSize of the types (countSize 0 for a scalar)
+  bool countSigned = false, valueSigned = false;
+  bool countFloat = false, valueFloat = false;  ///< ASCII values read as numbers, not integers
+  bool isIndex = false;     ///< a 'vertex_indices' (or 'vertex_index') list
+  bool faceValues = false;  ///< a face 'color' or 'texcoord' list (see PlyBodyWalker::skipList)
+  std::string name;
+};
+
+/// The property name of type valueType, a list with countType counts unless
+/// countType is empty, of an element named 'face' when inFace.
+PlyProperty plyProperty(const std::string& countType, const std::string& valueType, const std::string& name,
+                        bool inFace) {
+  PlyProperty pr;
+  pr.list = !countType.empty();
+  pr.countType = countType;
+  pr.valueType = valueType;
+  pr.countSize = plyTypeSize(countType);
+  pr.valueSize = plyTypeSize(valueType);
+  pr.countSigned = plyTypeSigned(countType);
+  pr.valueSigned = plyTypeSigned(valueType);
+  pr.countFloat = plyTypeFloat(countType);
+  pr.valueFloat = plyTypeFloat(valueType);
+  pr.isIndex = pr.list && (name == "vertex_indices" || name == "vertex_index");
+  pr.faceValues = inFace && (name == "color" || name == "texcoord");
+  pr.name = name;
+  return pr;
+}
+
+/// One 'element' line of a PLY header and its properties.
+struct PlyElement {
+  std::string name;
+  long long count = 0;
+  std::vector<PlyProperty> props;
+};
+
+/// A PLY header as readPlyHeader reads it.
+struct PlyHeader {
+  std::string format;  ///< the value of the last 'format' line
+  std::vector<PlyElement> elems;
+};
+
+enum class PlyFormat { Ascii, BinaryLittleEndian, BinaryBigEndian };
+
+/// The whitespace-separated words of a header line.
+std::vector<std::string> plyWords(const std::string& line) {
+  std::istringstream ls(line);
+  std::vector<std::string> tok;
+  for (std::string w; ls >> w;) tok.push_back(w);
+  return tok;
+}
+
+/// The element of header line lineNo, whose words are tok ("element" first).
+PlyElement parsePlyElementLine(const std::vector<std::string>& tok, int lineNo, const std::string& path) {
+  if (tok.size() < 3) plyParseError(path, "'element' line " + std::to_string(lineNo) + " needs a name and a count");
+  PlyElement e;
+  e.name = tok[1];
+  char* end = nullptr;
+  const long long n = std::strtoll(tok[2].c_str(), &end, 10);
+  if (end == tok[2].c_str() || *end != '\0' || n < 0) plyParseError(path, "element '" + e.name + "' has a bad count");
+  e.count = n;
+  return e;
+}
+
+/// The property of header line lineNo, whose words are tok ("property"
+/// first), of element e.
+PlyProperty parsePlyPropertyLine(const std::vector<std::string>& tok, int lineNo, const PlyElement& e,
+                                 const std::string& path) {
+  PlyProperty pr;
+  if (tok.size() >= 2 && tok[1] == "list") {
+    if (tok.size() < 5) plyParseError(path, "incomplete list property on line " + std::to_string(lineNo));
+    pr = plyProperty(tok[2], tok[3], tok[4], e.name == "face");
+  } else {
+    if (tok.size() < 3) plyParseError(path, "incomplete property on line " + std::to_string(lineNo));
+    pr = plyProperty("", tok[1], tok[2], e.name == "face");
+  }
+  if ((pr.list && pr.countSize == 0) || pr.valueSize == 0)
+    plyParseError(path, "unknown property type on line " + std::to_string(lineNo));
+  return pr;
+}
+
+/// Reads the header of in, up to and including its 'end_header' line, and
+/// throws InvalidInput at a line vcglib's header reader cannot tokenize or
+/// would misread. A line ends at its first NUL byte; lines other than
+/// 'format', 'element', 'property' and 'end_header' (comments) are skipped.
+PlyHeader readPlyHeader(std::istream& in, const std::string& path) {
+  PlyHeader h;
+  std::string line;
+  bool ended = false;
+  int lineNo = 0;
+  while (!ended && std::getline(in, line)) {
+    ++lineNo;
+    const std::size_t nul = line.find('\0');
+    if (nul != std::string::npos) line.resize(nul);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::vector<std::string> tok = plyWords(line);
+    if (tok.empty()) plyParseError(path, "empty line " + std::to_string(lineNo) + " in the header");
+    const std::string& word = tok[0];
+    if (lineNo == 1) {
+      if (word != "ply") plyParseError(path, "the file does not start with 'ply'");
+    } else if (word == "format") {
+      if (tok.size() < 2) plyParseError(path, "'format' without a value");
+      h.format = tok[1];
+    } else if (word == "element") {
+      h.elems.push_back(parsePlyElementLine(tok, lineNo, path));
+    } else if (word == "property") {
+      if (h.elems.empty()) plyParseError(path, "a property before any element");
+      h.elems.back().props.push_back(parsePlyPropertyLine(tok, lineNo, h.elems.back(), path));
+    } else if (word == "end_header") {
+      ended = true;
+    }
+  }
+  if (!ended) plyParseError(path, "the header has no 'end_header'");
+  return h;
+}
+
+/// What vcglib would report only as "Bad vertex index in face" or "No
+/// vertex field found": faces declared before the vertices, and vertex
+/// coordinates that are missing or not float or double.
+void checkPlyVertexElement(const std::vector<PlyElement>& elems, const std::string& path) {
+  std::size_t vertexElem = elems.size(), faceElem = elems.size();
+  for (std::size_t k = 0; k < elems.size(); ++k) {
+    if (elems[k].name == "vertex" && vertexElem == elems.size()) vertexElem = k;
+    if (elems[k].name == "face" && faceElem == elems.size()) faceElem = k;
+  }
+  if (faceElem < vertexElem && vertexElem < elems.size() && elems[faceElem].count > 0)
+    plyParseError(path, "the header declares element 'face' before element 'vertex'; the reader needs the "
+                        "vertices first (write the vertex element first)");
+  if (vertexElem == elems.size() || elems[vertexElem].count == 0) return;
+  int coords = 0;
+  for (const PlyProperty& pr : elems[vertexElem].props) {
+    if (pr.list || (pr.name != "x" && pr.name != "y" && pr.name != "z")) continue;
+    if (!pr.valueFloat)
+      plyParseError(path, "vertex property '" + pr.name + "' has type '" + pr.valueType +
+                              "'; coordinates must be float or double");
+    ++coords;
+  }
+  if (coords < 3) plyParseError(path, "the vertex element lacks float or double properties 'x', 'y' and 'z'");
+}
+
+/// vcglib reads triangle strips and range grids with vertex indices it does
+/// not fully check, and range grids into a 5-entry buffer.
+void checkPlyNoStripsOrGrids(const std::vector<PlyElement>& elems, const std::string& path) {
+  for (const PlyElement& e : elems)
+    if ((e.name == "tristrips" || e.name == "range_grid") && e.count > 0)
+      plyParseError(path, "'" + e.name + "' elements are not supported; save the mesh with a 'face' element");
+}
+
+/// The count of the last 'vertex' element (0 without one): the range of
+/// face vertex indices.
+long long plyVertexCount(const std::vector<PlyElement>& elems) {
+  long long vertices = 0;
+  for (const PlyElement& e : elems)
+    if (e.name == "vertex") vertices = e.count;
+  return vertices;
+}
+
+/// A non-empty face element needs exactly one vertex index list, of a
+/// (count, index) type pair vcglib's importer has a descriptor for.
+void checkPlyFaceLists(const std::vector<PlyElement>& elems, const std::string& path) {
+  for (const PlyElement& e : elems) {
+    if (e.name != "face" || e.count == 0) continue;
+    int lists = 0;
+    for (const PlyProperty& pr : e.props) {
+      if (!pr.isIndex) continue;
+      ++lists;
+      const std::string& c = pr.countType;
+      const std::string& v = pr.valueType;
+      const bool countOk = c == "uchar" || c == "char" || c == "int" || c == "uint8" || c == "int8" || c == "int32";
+      const bool wideCount = c == "int" || c == "int32";
+      const bool indexOk = v == "int" || v == "int32" || ((v == "uint" || v == "uint32") && !wideCount) ||
+                           (v == "short" && !wideCount);
+      if (!countOk || !indexOk)
+        plyParseError(path, "face lists of type '" + c + " " + v + "' are not supported (use 'uchar int')");
+    }
+    if (lists != 1) plyParseError(path, "the face element needs exactly one 'vertex_indices' list");
+  }
+}
+
+PlyFormat plyFormat(const std::string& format, const std::string& path) {
+  if (format == "ascii") return PlyFormat::Ascii;
+  if (format == "binary_big_endian") return PlyFormat::BinaryBigEndian;
+  if (format != "binary_little_endian") plyParseError(path, "unknown format '" + format + "'");
+  return PlyFormat::BinaryLittleEndian;
+}
+
+/// Element counts the file cannot hold (each needs at least a byte per
+/// property): refused before walking, so a huge count costs nothing.
+void checkPlyCountsFit(const std::vector<PlyElement>& elems, const std::string& file, const std::string& path) {
+  const long long size = fileSize(file);
+  long long need = 0;
+  for (const PlyElement& e : elems) {
+    const bool tooMany = e.count > size;  // checked first: the product below must not overflow
+    if (!tooMany) need += e.count * static_cast<long long>(std::max<std::size_t>(1, e.props.size()));
+    if (tooMany || need > size)
+      plyParseError(path, "the header declares " + std::to_string(e.count) + " '" + e.name +
+                              "' elements, more than the file can hold");
+  }
+}
+
+/// Whether the ASCII token [t, t + size) is one plain number: an integer
+/// ([+-]digits) when integer, else also a fraction, an exponent, nan or inf.
+/// vcglib scans ASCII values with scanf, which stops at the first character
+/// that cannot continue a number: "1-1" is read as two values, "3.0" for an
+/// integer as "3" then ".0". Tokens it would split that way would put every
+/// later value out of step with the body walk (and, in faces, hand vcglib
+/// unchecked vertex indices).
+bool plainPlyNumber(const char* t, std::size_t size, bool integer) {
+  std::size_t i = 0;
+  if (i < size && (t[i] == '+' || t[i] == '-')) ++i;
+  std::size_t digits = 0;
+  while (i < size && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
+  if (integer) return digits > 0 && i == size;
+  if (digits == 0) {  // scanf also reads nan and inf (the loader then refuses them by name)
+    std::string w(t + i, size - i);
+    for (char& c : w) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (w == "nan" || w == "inf" || w == "infinity") return true;
+  }
+  if (i < size && t[i] == '.') {
+    ++i;
+    while (i < size && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
+  }
+  if (digits == 0) return false;
+  if (i < size && (t[i] == 'e' || t[i] == 'E')) {
+    ++i;
+    if (i < size && (t[i] == '+' || t[i] == '-')) ++i;
+    std::size_t exp = 0;
+    while (i < size && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++exp;
+    if (exp == 0) return false;
+  }
+  return i == size;
+}
+
+/// Walks the body of a PLY file (ASCII or binary) after readPlyHeader, value
+/// by value where vcglib's reader needs checking, and throws InvalidInput at
+/// the first problem: data that ends early, malformed ASCII numbers, faces
+/// with fewer than 3 or more than 255 corners or a vertex index out of
+/// range, and lists that overflow vcglib's fixed buffers.
+class PlyBodyWalker {
+ public:
+  /// in is positioned at the first byte of the body of file; vertices is the
+  /// range of face vertex indices.
+  PlyBodyWalker(std::istream& in, const std::string& file, const std::string& path, PlyFormat format,
+                long long vertices)
+      : in_(in),
+        path_(path),
+        ascii_(format == PlyFormat::Ascii),
+        bigEndian_(format == PlyFormat::BinaryBigEndian),
+        vertices_(vertices),
+        buf_(ascii_ ? 0 : 1 << 16),
+        bodyStart_(in.tellg()),
+        size_(fileSize(file)) {
+    // An ASCII body is read by a scanner of its own (TextScanner).
+    if (ascii_) text_.reset(new TextScanner(in_, false));
+    if (!ascii_ && bodyStart_ >= 0) bufBase_ = static_cast<long long>(bodyStart_);
+  }
+
+  /// Walks the elements of the header, in order.
+  void walk(const std::vector<PlyElement>& elems) {
+    for (const PlyElement& e : elems) {
+      if (e.props.empty()) continue;
+      if (!ascii_ && std::none_of(e.props.begin(), e.props.end(), [](const PlyProperty& pr) { return pr.list; }))
+        jumpFixedRows(e);
+      else
+        walkRows(e);
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& why) const { plyParseError(path_, why); }
+  [[noreturn]] void truncated(const PlyElement& e) const { fail("the data ends inside element '" + e.name + "'"); }
+
+  void checkToken(const char* t, std::size_t size, bool floatType) const {
+    if (!plainPlyNumber(t, size, !floatType))
+      fail("malformed " + std::string(floatType ? "number" : "integer") + " " + shown(t, size) + " in the data");
+  }
+
+  /// Where a bad face was read: the byte offset (binary) or line (ASCII),
+  /// and, in binary, what most often puts faces out of step.
+  std::string where(long long valueBytes) const {
+    if (ascii_) return " (line " + std::to_string(text_->line()) + ")";
+    return " (byte " + std::to_string(bufBase_ + static_cast<long long>(bufAt_) - valueBytes) +
+           " of the file; a header count larger or smaller than the data it describes reads the faces "
+           "from the wrong place)";
+  }
+
+  // The binary body is read through a buffer of its own: a stream read per
+  // value cost more than everything this walk checks.
+  bool refill() {
+    bufBase_ += static_cast<long long>(bufEnd_);
+    in_.read(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+    bufEnd_ = static_cast<std::size_t>(in_.gcount());
+    bufAt_ = 0;
+    in_.clear();  // a short read at the end of the file leaves the stream usable for seeks
+    return bufEnd_ > 0;
+  }
+  bool readBytes(unsigned char* out, int n) {
+    for (int k = 0; k < n; ++k) {
+      if (bufAt_ == bufEnd_ && !refill()) return false;
+      out[k] = static_cast<unsigned char>(buf_[bufAt_++]);
+    }
+    return true;
+  }
+  bool skipBytes(long long n) {
+    while (n > 0) {
+      if (bufAt_ == bufEnd_ && !refill()) return false;
+      const long long take = std::min<long long>(n, static_cast<long long>(bufEnd_ - bufAt_));
+      bufAt_ += static_cast<std::size_t>(take);
+      n -= take;
+    }
+    return true;
+  }
+
+  /// Reads one integer of the given PLY type into out; false at the end of
+  /// the data.
+  bool readInt(bool floatType, int size, bool sign, long long& out) {
+    if (ascii_) return readAsciiInt(floatType, out);
+    unsigned char b[8] = {0};
+    if (!readBytes(b, size)) return false;
+    unsigned long long u = 0;
+    for (int k = 0; k < size; ++k) u = (u << 8) | b[bigEndian_ ? k : size - 1 - k];
+    if (sign && size < 8 && ((u >> (8 * size - 1)) & 1u))
+      out = static_cast<long long>(u) - (1LL << (8 * size));
+    else
+      out = static_cast<long long>(u);
+    return true;
+  }
+  bool readAsciiInt(bool floatType, long long& out) {
+    const char* t = nullptr;
+    std::size_t n = 0;
+    if (!text_->next(t, n)) return false;
+    checkToken(t, n, floatType);
+    if (!floatType) {
+      // [+-]digits (checkToken): read exactly, -1 beyond 4e9 as below.
+      std::size_t i = t[0] == '+' || t[0] == '-' ? 1 : 0;
+      while (i + 1 < n && t[i] == '0') ++i;
+      if (n - i > 10) {
+        out = -1;
+        return true;
+      }
+      long long v = 0;
+      for (; i < n; ++i) v = 10 * v + (t[i] - '0');
+      out = v > 4000000000LL ? -1 : t[0] == '-' ? -v : v;
+      return true;
+    }
+    // The value as strtod reads it (the token is followed by whitespace or
+    // '\0'); -1 when it is not a usable count or index (not finite, or
+    // beyond 4e9).
+    char* end = nullptr;
+    const double d = std::strtod(t, &end);
+    if (end == t || !std::isfinite(d) || std::abs(d) > 4e9) {
+      out = -1;
+      return true;
+    }
+    out = static_cast<long long>(d);
+    return true;
+  }
+
+  /// Skips values values of the given PLY type; false at the end of the data.
+  bool skip(long long values, bool floatType, int size) {
+    if (!ascii_) return skipBytes(values * size);
+    const char* t = nullptr;
+    std::size_t n = 0;
+    for (long long k = 0; k < values; ++k) {
+      if (!text_->next(t, n)) return false;
+      checkToken(t, n, floatType);
+    }
+    return true;
+  }
+
+  /// Binary rows of scalars only: nothing in them to check, one jump over
+  /// all of them.
+  void jumpFixedRows(const PlyElement& e) {
+    long long row = 0;
+    for (const PlyProperty& pr : e.props) row += pr.valueSize;
+    const long long at = bufBase_ + static_cast<long long>(bufAt_);
+    if (bodyStart_ < 0 || e.count > (size_ - at) / std::max(1LL, row)) truncated(e);
+    const long long to = at + e.count * row;
+    if (to <= bufBase_ + static_cast<long long>(bufEnd_)) {
+      bufAt_ = static_cast<std::size_t>(to - bufBase_);
+    } else {
+      in_.seekg(static_cast<std::streamoff>(to));
+      if (in_.fail()) truncated(e);
+      bufBase_ = to;
+      bufAt_ = bufEnd_ = 0;
+    }
+  }
+
+  /// Every row of e, value by value.
+  void walkRows(const PlyElement& e) {
+    const bool isFace = e.name == "face";
+    for (long long i = 0; i < e.count; ++i)
+      for (const PlyProperty& pr : e.props) {
+        if (!pr.list) {
+          if (!skip(1, pr.valueFloat, pr.valueSize)) truncated(e);
+          continue;
+        }
+        long long n = 0;
+        if (!readInt(pr.countFloat, pr.countSize, pr.countSigned, n)) truncated(e);
+        if (isFace && pr.isIndex)
+          checkFaceCorners(e, i, pr, n);
+        else
+          skipList(e, i, pr, n);
+      }
+  }
+
+  /// The n vertex indices of face i, after their count.
+  void checkFaceCorners(const PlyElement& e, long long i, const PlyProperty& pr, long long n) {
+    if (n < 3 || n > 255)
+      fail("face " + std::to_string(i) + " has " + (n < 0 ? std::string("an invalid number of") : std::to_string(n)) +
+           " corners; faces need 3 to 255 corners" + where(pr.countSize));
+    for (long long k = 0; k < n; ++k) {
+      long long idx = 0;
+      if (!readInt(pr.valueFloat, pr.valueSize, pr.valueSigned, idx)) truncated(e);
+      if (idx < 0 || idx >= vertices_)
+        fail("face " + std::to_string(i) + " has a vertex index out of range, " +
+             (idx < 0 ? std::string("negative") : std::to_string(idx)) + " of " + std::to_string(vertices_) +
+             " vertices" + where(pr.valueSize));
+    }
+  }
+
+  /// The n values of list pr of row i of e (not face indices), after their
+  /// count. vcglib reads a face 'color' or 'texcoord' list into a 32-value
+  /// buffer, and skips every other binary list with a one-byte count into a
+  /// 512-byte buffer.
+  void skipList(const PlyElement& e, long long i, const PlyProperty& pr, long long n) {
+    if (n < 0) truncated(e);
+    if (pr.faceValues && n > 32)
+      fail("face " + std::to_string(i) + " has " + std::to_string(n) + " '" + pr.name +
+           "' values; at most 32 are supported");
+    if (!ascii_ && pr.countSize != 1)
+      fail("list property '" + pr.name + "' of element '" + e.name + "' has a " + pr.countType +
+           " count; only one-byte counts are supported outside face indices");
+    if (!ascii_ && n == 0 && !pr.faceValues)  // vcglib takes its zero-byte read for the end of the file
+      fail(e.name + " " + std::to_string(i) + " has an empty '" + pr.name +
+           "' list; binary lists the reader skips cannot be empty");
+    if (!ascii_ && n * pr.valueSize > 512)
+      fail(e.name + " " + std::to_string(i) + " has " + std::to_string(n) + " '" + pr.name +
+           "' values, more than the reader can skip (512 bytes)");
+    if (!skip(n, pr.valueFloat, pr.valueSize)) truncated(e);
+  }
+
+  std::istream& in_;
+  const std::string& path_;
+  const bool ascii_, bigEndian_;
+  const long long vertices_;
+  std::unique_ptr<TextScanner> text_;
+  std::vector<char> buf_;
+  long long bufBase_ = 0;  ///< file offset of buf_[0]
+  std::size_t bufAt_ = 0, bufEnd_ = 0;
+  const std::istream::pos_type bodyStart_;
+  const long long size_;  ///< of the file
+};
+
 /// Validates what vcglib 2020.09's PLY reader trusts blindly, before it reads
 /// the file: header lines it cannot tokenize (an empty line, an element
 /// without a count) crash it; a face list type it has no descriptor for, or a
@@ -690,356 +1171,13 @@ void checkPlyHeader(const std::string& file, const std::string& path) {
 /// problem.
 void checkPlyStructure(const std::string& file, const std::string& path) {
   std::ifstream in(file, std::ios::binary);
-  auto fail = [&path](const std::string& why) { throw InvalidInput(quoted(path) + ": PLY parse error: " + why); };
-  struct Prop {
-    bool list = false;
-    std::string countType, valueType;
-    int countSize = 0, valueSize = 0;
-    bool countSigned = false, valueSigned = false;
-    bool countFloat = false, valueFloat = false;  ///< ASCII values read as numbers, not integers
-    bool isIndex = false;
-    bool faceValues = false;  ///< a face 'color' or 'texcoord' list (see below)
-    std::string name;
-  };
-  struct Elem {
-    std::string name;
-    long long count = 0;
-    std::vector<Prop> props;
-  };
-  auto typeSize = [](const std::string& t) -> int {
-    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
-    if (t == "double" || t == "float64") return 8;
-    return 0;
-  };
-  auto isSigned = [](const std::string& t) {
-    return t == "char" || t == "short" || t == "int" || t == "int8" || t == "int16" || t == "int32";
-  };
-  auto isFloatType = [](const std::string& t) {
-    return t == "float" || t == "double" || t == "float32" || t == "float64";
-  };
-  std::vector<Elem> elems;
-  std::string line, format;
-  bool ended = false;
-  int lineNo = 0;
-  while (!ended && std::getline(in, line)) {
-    ++lineNo;
-    const std::size_t nul = line.find('\0');
-    if (nul != std::string::npos) line.resize(nul);
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream ls(line);
-    std::vector<std::string> tok;
-    for (std::string w; ls >> w;) tok.push_back(w);
-    if (tok.empty()) fail("empty line " + std::to_string(lineNo) + " in the header");
-    const std::string& word = tok[0];
-    if (lineNo == 1) {
-      if (word != "ply") fail("the file does not start with 'ply'");
-    } else if (word == "format") {
-      if (tok.size() < 2) fail("'format' without a value");
-      format = tok[1];
-    } else if (word == "element") {
-      if (tok.size() < 3) fail("'element' line " + std::to_string(lineNo) + " needs a name and a count");
-      Elem e;
-      e.name = tok[1];
-      char* end = nullptr;
-      const long long n = std::strtoll(tok[2].c_str(), &end, 10);
-      if (end == tok[2].c_str() || *end != '\0' || n < 0) fail("element '" + e.name + "' has a bad count");
-      e.count = n;
-      elems.push_back(e);
-    } else if (word == "property") {
-      if (elems.empty()) fail("a property before any element");
-      Prop pr;
-      std::string name;
-      if (tok.size() >= 2 && tok[1] == "list") {
-        if (tok.size() < 5) fail("incomplete list property on line " + std::to_string(lineNo));
-        pr.list = true;
-        pr.countType = tok[2];
-        pr.valueType = tok[3];
-        name = tok[4];
-        pr.countSize = typeSize(pr.countType);
-        pr.valueSize = typeSize(pr.valueType);
-      } else {
-        if (tok.size() < 3) fail("incomplete property on line " + std::to_string(lineNo));
-        pr.valueType = tok[1];
-        name = tok[2];
-        pr.valueSize = typeSize(pr.valueType);
-      }
-      if ((pr.list && pr.countSize == 0) || pr.valueSize == 0)
-        fail("unknown property type on line " + std::to_string(lineNo));
-      pr.countSigned = isSigned(pr.countType);
-      pr.valueSigned = isSigned(pr.valueType);
-      pr.countFloat = isFloatType(pr.countType);
-      pr.valueFloat = isFloatType(pr.valueType);
-      pr.isIndex = pr.list && (name == "vertex_indices" || name == "vertex_index");
-      pr.faceValues = elems.back().name == "face" && (name == "color" || name == "texcoord");
-      pr.name = name;
-      elems.back().props.push_back(pr);
-    } else if (word == "end_header") {
-      ended = true;
-    }
-  }
-  if (!ended) fail("the header has no 'end_header'");
-
-  // What vcglib would report only as "Bad vertex index in face" or "No
-  // vertex field found".
-  std::size_t vertexElem = elems.size(), faceElem = elems.size();
-  for (std::size_t k = 0; k < elems.size(); ++k) {
-    if (elems[k].name == "vertex" && vertexElem == elems.size()) vertexElem = k;
-    if (elems[k].name == "face" && faceElem == elems.size()) faceElem = k;
-  }
-  if (faceElem < vertexElem && vertexElem < elems.size() && elems[faceElem].count > 0)
-    fail("the header declares element 'face' before element 'vertex'; the reader needs the vertices first "
-         "(write the vertex element first)");
-  if (vertexElem < elems.size() && elems[vertexElem].count > 0) {
-    int coords = 0;
-    for (const Prop& pr : elems[vertexElem].props) {
-      if (pr.list || (pr.name != "x" && pr.name != "y" && pr.name != "z")) continue;
-      if (!pr.valueFloat)
-        fail("vertex property '" + pr.name + "' has type '" + pr.valueType +
-             "'; coordinates must be float or double");
-      ++coords;
-    }
-    if (coords < 3) fail("the vertex element lacks float or double properties 'x', 'y' and 'z'");
-  }
-
-  long long vertices = 0;
-  for (const Elem& e : elems) {
-    if (e.name == "vertex") vertices = e.count;
-    // vcglib reads triangle strips and range grids with vertex indices it
-    // does not fully check, and range grids into a 5-entry buffer.
-    if ((e.name == "tristrips" || e.name == "range_grid") && e.count > 0)
-      fail("'" + e.name + "' elements are not supported; save the mesh with a 'face' element");
-  }
-  for (const Elem& e : elems) {
-    if (e.name != "face" || e.count == 0) continue;
-    int lists = 0;
-    for (const Prop& pr : e.props) {
-      if (!pr.isIndex) continue;
-      ++lists;
-      // The (count, index) type pairs vcglib's importer has descriptors for.
-      const std::string& c = pr.countType;
-      const std::string& v = pr.valueType;
-      const bool countOk = c == "uchar" || c == "char" || c == "int" || c == "uint8" || c == "int8" || c == "int32";
-      const bool wideCount = c == "int" || c == "int32";
-      const bool indexOk = v == "int" || v == "int32" || ((v == "uint" || v == "uint32") && !wideCount) ||
-                           (v == "short" && !wideCount);
-      if (!countOk || !indexOk)
-        fail("face lists of type '" + c + " " + v + "' are not supported (use 'uchar int')");
-    }
-    if (lists != 1) fail("the face element needs exactly one 'vertex_indices' list");
-  }
-
-  const bool ascii = format == "ascii";
-  const bool bigEndian = format == "binary_big_endian";
-  if (!ascii && !bigEndian && format != "binary_little_endian") fail("unknown format '" + format + "'");
-  auto truncated = [&](const Elem& e) { fail("the data ends inside element '" + e.name + "'"); };
-  // Reads one integer of the given PLY type; false at the end of the data.
-  // vcglib scans ASCII values with scanf, which stops at the first character
-  // that cannot continue a number: "1-1" is read as two values, "3.0" for an
-  // integer as "3" then ".0". Tokens it would split that way would put every
-  // later value out of step with this check (and, in faces, hand vcglib
-  // unchecked vertex indices), so each token must be one plain number.
-  auto plainNumber = [](const char* t, std::size_t size, bool integer) {
-    std::size_t i = 0;
-    if (i < size && (t[i] == '+' || t[i] == '-')) ++i;
-    std::size_t digits = 0;
-    while (i < size && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
-    if (integer) return digits > 0 && i == size;
-    if (digits == 0) {  // scanf also reads nan and inf (the loader then refuses them by name)
-      std::string w(t + i, size - i);
-      for (char& c : w) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      if (w == "nan" || w == "inf" || w == "infinity") return true;
-    }
-    if (i < size && t[i] == '.') {
-      ++i;
-      while (i < size && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
-    }
-    if (digits == 0) return false;
-    if (i < size && (t[i] == 'e' || t[i] == 'E')) {
-      ++i;
-      if (i < size && (t[i] == '+' || t[i] == '-')) ++i;
-      std::size_t exp = 0;
-      while (i < size && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++exp;
-      if (exp == 0) return false;
-    }
-    return i == size;
-  };
-  auto checkToken = [&](const char* t, std::size_t size, bool floatType) {
-    if (!plainNumber(t, size, !floatType))
-      fail("malformed " + std::string(floatType ? "number" : "integer") + " " + shown(t, size) + " in the data");
-  };
-  // An ASCII body is read by a scanner of its own (TextScanner).
-  std::unique_ptr<TextScanner> text;
-  if (ascii) text.reset(new TextScanner(in, false));
-  // The binary body is read through a buffer of its own: a stream read per
-  // value cost more than everything this walk checks.
-  std::vector<char> buf(ascii ? 0 : 1 << 16);
-  long long bufBase = 0;         // file offset of buf[0]
-  std::size_t bufAt = 0, bufEnd = 0;
-  const auto bodyStart = in.tellg();
-  if (!ascii && bodyStart >= 0) bufBase = static_cast<long long>(bodyStart);
-  auto refill = [&]() -> bool {
-    bufBase += static_cast<long long>(bufEnd);
-    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    bufEnd = static_cast<std::size_t>(in.gcount());
-    bufAt = 0;
-    in.clear();  // a short read at the end of the file leaves the stream usable for seeks
-    return bufEnd > 0;
-  };
-  auto readBytes = [&](unsigned char* out, int n) -> bool {
-    for (int k = 0; k < n; ++k) {
-      if (bufAt == bufEnd && !refill()) return false;
-      out[k] = static_cast<unsigned char>(buf[bufAt++]);
-    }
-    return true;
-  };
-  auto skipBytes = [&](long long n) -> bool {
-    while (n > 0) {
-      if (bufAt == bufEnd && !refill()) return false;
-      const long long take = std::min<long long>(n, static_cast<long long>(bufEnd - bufAt));
-      bufAt += static_cast<std::size_t>(take);
-      n -= take;
-    }
-    return true;
-  };
-  auto readInt = [&](bool floatType, int size, bool sign, long long& out) -> bool {
-    if (ascii) {
-      const char* t = nullptr;
-      std::size_t n = 0;
-      if (!text->next(t, n)) return false;
-      checkToken(t, n, floatType);
-      if (!floatType) {
-        // [+-]digits (checkToken): read exactly, -1 beyond 4e9 as below.
-        std::size_t i = t[0] == '+' || t[0] == '-' ? 1 : 0;
-        while (i + 1 < n && t[i] == '0') ++i;
-        if (n - i > 10) {
-          out = -1;
-          return true;
-        }
-        long long v = 0;
-        for (; i < n; ++i) v = 10 * v + (t[i] - '0');
-        out = v > 4000000000LL ? -1 : t[0] == '-' ? -v : v;
-        return true;
-      }
-      // The value as strtod reads it (the token is followed by whitespace
-      // or '\0'); -1 when it is not a usable count or index (not finite, or
-      // beyond 4e9).
-      char* end = nullptr;
-      const double d = std::strtod(t, &end);
-      if (end == t || !std::isfinite(d) || std::abs(d) > 4e9) {
-        out = -1;
-        return true;
-      }
-      out = static_cast<long long>(d);
-      return true;
-    }
-    unsigned char b[8] = {0};
-    if (!readBytes(b, size)) return false;
-    unsigned long long u = 0;
-    for (int k = 0; k < size; ++k) u = (u << 8) | b[bigEndian ? k : size - 1 - k];
-    if (sign && size < 8 && ((u >> (8 * size - 1)) & 1u))
-      out = static_cast<long long>(u) - (1LL << (8 * size));
-    else
-      out = static_cast<long long>(u);
-    return true;
-  };
-  auto skip = [&](long long values, bool floatType, int size) -> bool {
-    if (ascii) {
-      const char* t = nullptr;
-      std::size_t n = 0;
-      for (long long k = 0; k < values; ++k) {
-        if (!text->next(t, n)) return false;
-        checkToken(t, n, floatType);
-      }
-      return true;
-    }
-    return skipBytes(values * size);
-  };
-  // Element counts the file cannot hold (each needs at least a byte per
-  // property): refuse them before walking, so a huge count costs nothing.
-  {
-    const long long size = fileSize(file);
-    long long need = 0;
-    for (const Elem& e : elems) {
-      const bool tooMany = e.count > size;  // checked first: the product below must not overflow
-      if (!tooMany) need += e.count * static_cast<long long>(std::max<std::size_t>(1, e.props.size()));
-      if (tooMany || need > size)
-        fail("the header declares " + std::to_string(e.count) + " '" + e.name +
-             "' elements, more than the file can hold");
-    }
-  }
-  const long long size = fileSize(file);
-  for (const Elem& e : elems) {
-    const bool isFace = e.name == "face";
-    if (e.props.empty()) continue;
-    if (!ascii && std::none_of(e.props.begin(), e.props.end(), [](const Prop& pr) { return pr.list; })) {
-      // Fixed-size rows: nothing in them to check, one jump over all of them.
-      long long row = 0;
-      for (const Prop& pr : e.props) row += pr.valueSize;
-      const long long at = bufBase + static_cast<long long>(bufAt);
-      if (bodyStart < 0 || e.count > (size - at) / std::max(1LL, row)) truncated(e);
-      const long long to = at + e.count * row;
-      if (to <= bufBase + static_cast<long long>(bufEnd)) {
-        bufAt = static_cast<std::size_t>(to - bufBase);
-      } else {
-        in.seekg(static_cast<std::streamoff>(to));
-        if (in.fail()) truncated(e);
-        bufBase = to;
-        bufAt = bufEnd = 0;
-      }
-      continue;
-    }
-    // Where a bad face was read: the byte offset (binary) or line (ASCII),
-    // and, in binary, what most often puts faces out of step.
-    auto at = [&](long long valueBytes) {
-      if (ascii) return " (line " + std::to_string(text->line()) + ")";
-      return " (byte " + std::to_string(bufBase + static_cast<long long>(bufAt) - valueBytes) +
-             " of the file; a header count larger or smaller than the data it describes reads the faces "
-             "from the wrong place)";
-    };
-    for (long long i = 0; i < e.count; ++i)
-      for (const Prop& pr : e.props) {
-        if (!pr.list) {
-          if (!skip(1, pr.valueFloat, pr.valueSize)) truncated(e);
-          continue;
-        }
-        long long n = 0;
-        if (!readInt(pr.countFloat, pr.countSize, pr.countSigned, n)) truncated(e);
-        if (isFace && pr.isIndex) {
-          if (n < 3 || n > 255)
-            fail("face " + std::to_string(i) + " has " + (n < 0 ? std::string("an invalid number of") : std::to_string(n)) +
-                 " corners; faces need 3 to 255 corners" + at(pr.countSize));
-          for (long long k = 0; k < n; ++k) {
-            long long idx = 0;
-            if (!readInt(pr.valueFloat, pr.valueSize, pr.valueSigned, idx)) truncated(e);
-            if (idx < 0 || idx >= vertices)
-              fail("face " + std::to_string(i) + " has a vertex index out of range, " +
-                   (idx < 0 ? std::string("negative") : std::to_string(idx)) + " of " + std::to_string(vertices) +
-                   " vertices" + at(pr.valueSize));
-          }
-          continue;
-        }
-        if (n < 0) truncated(e);
-        // vcglib reads a face 'color' or 'texcoord' list into a 32-value
-        // buffer, and skips every other binary list with a one-byte count into
-        // a 512-byte buffer.
-        const bool faceValues = pr.faceValues;
-        if (faceValues && n > 32)
-          fail("face " + std::to_string(i) + " has " + std::to_string(n) + " '" + pr.name +
-               "' values; at most 32 are supported");
-        if (!ascii && pr.countSize != 1)
-          fail("list property '" + pr.name + "' of element '" + e.name + "' has a " + pr.countType +
-               " count; only one-byte counts are supported outside face indices");
-        if (!ascii && n == 0 && !faceValues)  // vcglib takes its zero-byte read for the end of the file
-          fail(e.name + " " + std::to_string(i) + " has an empty '" + pr.name +
-               "' list; binary lists the reader skips cannot be empty");
-        if (!ascii && n * pr.valueSize > 512)
-          fail(e.name + " " + std::to_string(i) + " has " + std::to_string(n) + " '" + pr.name +
-               "' values, more than the reader can skip (512 bytes)");
-        if (!skip(n, pr.valueFloat, pr.valueSize)) truncated(e);
-      }
-  }
+  const PlyHeader header = readPlyHeader(in, path);
+  checkPlyVertexElement(header.elems, path);
+  checkPlyNoStripsOrGrids(header.elems, path);
+  checkPlyFaceLists(header.elems, path);
+  const PlyFormat format = plyFormat(header.format, path);
+  checkPlyCountsFit(header.elems, file, path);
+  PlyBodyWalker(in, file, path, format, plyVertexCount(header.elems)).walk(header.elems);
 }
 
 /// A file removed when this goes out of scope.
@@ -1097,70 +1235,22 @@ std::string plyWithShortComments(const std::string& path, ScratchFile& scratch) 
   return scratch.path;
 }
 
-/// vcglib 2020.09 byte-swaps big-endian chars, shorts, ints and floats but
-/// not doubles (its SwapDouble is empty), so a big-endian PLY with double
-/// properties loads as garbage. When file is binary_big_endian, writes a
-/// little-endian copy into scratch (every scalar and list value swapped by
-/// its type's size, the format line changed) and returns its path;
-/// otherwise returns file. \pre checkPlyStructure accepted file.
-std::string plyInLittleEndian(const std::string& file, const std::string& path, ScratchFile& scratch) {
-  std::ifstream in(file, std::ios::binary);
-  struct Prop {
-    int countSize = 0;  ///< 0: a scalar
-    int valueSize = 0;
-  };
-  struct Elem {
-    long long count = 0;
-    std::vector<Prop> props;
-  };
-  auto typeSize = [](const std::string& t) -> int {
-    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
-    if (t == "double" || t == "float64") return 8;
-    return 0;
-  };
-  std::vector<std::string> header;
-  std::vector<Elem> elems;
-  bool bigEndian = false;
-  for (std::string line; std::getline(in, line);) {
-    std::istringstream ls(line);
-    std::vector<std::string> tok;
-    for (std::string w; ls >> w;) tok.push_back(w);
-    if (!tok.empty() && tok[0] == "format" && tok.size() >= 2) {
-      if (tok[1] != "binary_big_endian") return file;
-      bigEndian = true;
-      line = "format binary_little_endian 1.0";
-    } else if (!tok.empty() && tok[0] == "element" && tok.size() >= 3) {
-      elems.push_back(Elem{std::stoll(tok[2]), {}});
-    } else if (!tok.empty() && tok[0] == "property" && !elems.empty()) {
-      Prop pr;
-      if (tok.size() >= 5 && tok[1] == "list") {
-        pr.countSize = typeSize(tok[2]);
-        pr.valueSize = typeSize(tok[3]);
-      } else if (tok.size() >= 3) {
-        pr.valueSize = typeSize(tok[1]);
-      }
-      if (pr.valueSize == 0 || (tok[1] == "list" && pr.countSize == 0)) return file;  // let vcglib report it
-      elems.back().props.push_back(pr);
-    }
-    header.push_back(line);
-    if (!tok.empty() && tok[0] == "end_header") break;
-  }
-  if (!bigEndian) return file;
-  const std::vector<char> body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+/// The body of a binary_big_endian PLY file with elements elems, every
+/// scalar and list value byte-swapped by its type's size; bytes after the
+/// last element are copied unchanged.
+std::vector<char> plyBodySwapped(const std::vector<char>& body, const std::vector<PlyElement>& elems,
+                                 const std::string& path) {
   std::vector<char> out(body.size());
   std::size_t at = 0;
   auto take = [&](int size) {
-    if (at + static_cast<std::size_t>(size) > body.size())
-      throw InvalidInput(quoted(path) + ": PLY parse error: the data ends early");
+    if (at + static_cast<std::size_t>(size) > body.size()) plyParseError(path, "the data ends early");
     for (int k = 0; k < size; ++k) out[at + static_cast<std::size_t>(k)] = body[at + static_cast<std::size_t>(size - 1 - k)];
     at += static_cast<std::size_t>(size);
   };
-  for (const Elem& e : elems)
+  for (const PlyElement& e : elems)
     for (long long i = 0; i < e.count; ++i)
-      for (const Prop& pr : e.props) {
-        if (pr.countSize == 0) {
+      for (const PlyProperty& pr : e.props) {
+        if (!pr.list) {
           take(pr.valueSize);
           continue;
         }
@@ -1171,6 +1261,45 @@ std::string plyInLittleEndian(const std::string& file, const std::string& path, 
         for (unsigned long long v = 0; v < n; ++v) take(pr.valueSize);
       }
   std::copy(body.begin() + static_cast<std::ptrdiff_t>(at), body.end(), out.begin() + static_cast<std::ptrdiff_t>(at));
+  return out;
+}
+
+/// vcglib 2020.09 byte-swaps big-endian chars, shorts, ints and floats but
+/// not doubles (its SwapDouble is empty), so a big-endian PLY with double
+/// properties loads as garbage. When file is binary_big_endian, writes a
+/// little-endian copy into scratch (every scalar and list value swapped by
+/// its type's size, the format line changed) and returns its path;
+/// otherwise returns file. \pre checkPlyStructure accepted file.
+std::string plyInLittleEndian(const std::string& file, const std::string& path, ScratchFile& scratch) {
+  std::ifstream in(file, std::ios::binary);
+  // Not readPlyHeader: the lines are copied as they are, and this reader is
+  // laxer (a line ends at '\n' only, not at a NUL byte).
+  std::vector<std::string> header;
+  std::vector<PlyElement> elems;  // only counts and the sizes of the types
+  bool bigEndian = false;
+  for (std::string line; std::getline(in, line);) {
+    const std::vector<std::string> tok = plyWords(line);
+    if (!tok.empty() && tok[0] == "format" && tok.size() >= 2) {
+      if (tok[1] != "binary_big_endian") return file;
+      bigEndian = true;
+      line = "format binary_little_endian 1.0";
+    } else if (!tok.empty() && tok[0] == "element" && tok.size() >= 3) {
+      elems.push_back(PlyElement{std::string(), std::stoll(tok[2]), {}});
+    } else if (!tok.empty() && tok[0] == "property" && !elems.empty()) {
+      PlyProperty pr;
+      if (tok.size() >= 5 && tok[1] == "list")
+        pr = plyProperty(tok[2], tok[3], tok[4], false);
+      else if (tok.size() >= 3)
+        pr = plyProperty("", tok[1], tok[2], false);
+      if (pr.valueSize == 0 || (tok[1] == "list" && pr.countSize == 0)) return file;  // let vcglib report it
+      elems.back().props.push_back(pr);
+    }
+    header.push_back(line);
+    if (!tok.empty() && tok[0] == "end_header") break;
+  }
+  if (!bigEndian) return file;
+  const std::vector<char> body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<char> out = plyBodySwapped(body, elems, path);
   std::ofstream o = scratchStream(scratch, path);
   for (const std::string& h : header) o << h << '\n';
   o.write(out.data(), static_cast<std::streamsize>(out.size()));
