@@ -638,20 +638,24 @@ void readStl(const std::string& path, PlainMesh& d) {
   }
 }
 
+/// Loads path with read (readObj or readStl) into m; returns what read read.
 template <class M>
-void loadObj(const std::string& path, M& m, LoadInfo& info) {
+PlainMesh loadPlain(void (*read)(const std::string&, PlainMesh&), const std::string& path, M& m, LoadInfo& info) {
   PlainMesh d;
-  readObj(path, d);
+  read(path, d);
   fillMesh(d.xyz, d.tri, m);
   info.polygons = d.polygons;
+  return d;
+}
+
+template <class M>
+void loadObj(const std::string& path, M& m, LoadInfo& info) {
+  loadPlain(readObj, path, m, info);
 }
 
 template <class M>
 void loadStl(const std::string& path, M& m, LoadInfo& info) {
-  PlainMesh d;
-  readStl(path, d);
-  fillMesh(d.xyz, d.tri, m);
-  info.polygons = d.polygons;
+  const PlainMesh d = loadPlain(readStl, path, m, info);
   info.weldedCorners = d.corners - static_cast<long long>(d.xyz.size() / 3);
 }
 
@@ -1347,6 +1351,17 @@ void loadPly(const std::string& path, M& m, LoadInfo& info) {
   info.polygons = (mask & vcg::tri::io::Mask::IOM_BITPOLYGONAL) != 0;
 }
 
+/// Loads file, read as a mesh of format fmt, into m.
+template <class M>
+void loadFormat(MeshFormat fmt, const std::string& file, M& m, LoadInfo& info) {
+  switch (fmt) {
+    case MeshFormat::Ply: loadPly(file, m, info); break;
+    case MeshFormat::Off: loadOff(file, m, info); break;
+    case MeshFormat::Obj: loadObj(file, m, info); break;
+    case MeshFormat::Stl: loadStl(file, m, info); break;
+  }
+}
+
 template <class M>
 void loadMeshImpl(const std::string& path, M& m, LoadInfo* infoOut) {
   LoadInfo info;
@@ -1354,12 +1369,7 @@ void loadMeshImpl(const std::string& path, M& m, LoadInfo* infoOut) {
   const MeshFormat fmt = meshFormatFromPath(path);
   checkReadable(path);
   try {
-    switch (fmt) {
-      case MeshFormat::Ply: loadPly(path, m, info); break;
-      case MeshFormat::Off: loadOff(path, m, info); break;
-      case MeshFormat::Obj: loadObj(path, m, info); break;
-      case MeshFormat::Stl: loadStl(path, m, info); break;
-    }
+    loadFormat(fmt, path, m, info);
   } catch (const InvalidInput&) {
     m.Clear();
     throw;
@@ -1577,12 +1587,7 @@ void verifyWritten(const std::string& target, const std::string& file, const M& 
   VerifyMesh back;
   LoadInfo info;
   try {
-    switch (fmt) {
-      case MeshFormat::Ply: loadPly(file, back, info); break;
-      case MeshFormat::Off: loadOff(file, back, info); break;
-      case MeshFormat::Obj: loadObj(file, back, info); break;
-      case MeshFormat::Stl: loadStl(file, back, info); break;
-    }
+    loadFormat(fmt, file, back, info);
   } catch (const std::exception& e) {
     throw IoError(quoted(target) + ": the written file does not read back (" + e.what() + ")");
   }
