@@ -5,6 +5,8 @@
 
 #include <sodt/output.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,41 +20,42 @@ namespace sodt_cli {
 
 namespace {
 
+/// JSON objects keep their members in the order written.
+using Json = nlohmann::ordered_json;
+
+/// x, or null when it is not finite (JSON has no NaN or infinity).
+Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
+
+/// The document as the reports are written: two-space indent, a final newline.
+std::string text(const Json& j) { return j.dump(2) + "\n"; }
+
 /// The deviation bound, in percent in the summary and the report.
 const sodt::ParamSpec& maxDeviation = sodt::paramSpec("maxDeviationRel");
 
-/// Writes the members of one measures object (inside an open object).
-void writeMeasures(sodt::JsonWriter& j, const Measures& s) {
-  j.member("closed", s.volume.closed);
-  j.member("min_angle", s.angles.minDeg);
-  j.member("max_angle", s.angles.maxDeg);
-  j.member("angle_histogram", s.angles.histogram);
-  j.member("frac_below_30", s.angles.fracBelow30);
-  j.member("frac_above_90", s.angles.fracAbove90);
-  j.member("p1_tri_min_angle", s.angles.p1TriMinDeg);
-  if (s.volume.closed)
-    j.member("volume", s.volume.volume);
-  else
-    j.memberNull("volume");
+/// Adds the members of one measures object to j.
+void writeMeasures(Json& j, const Measures& s) {
+  j["closed"] = s.volume.closed;
+  j["min_angle"] = number(s.angles.minDeg);
+  j["max_angle"] = number(s.angles.maxDeg);
+  j["angle_histogram"] = s.angles.histogram;
+  j["frac_below_30"] = number(s.angles.fracBelow30);
+  j["frac_above_90"] = number(s.angles.fracAbove90);
+  j["p1_tri_min_angle"] = number(s.angles.p1TriMinDeg);
+  j["volume"] = s.volume.closed ? number(s.volume.volume) : Json(nullptr);
 }
 
 /// Writes hausdorff_rel, mean_distance_rel (null when unknown) and
 /// hausdorff_is_lower_bound, all three null when the distance was not measured.
-void writeDistance(sodt::JsonWriter& j, const Distance& d) {
-  if (!d.measured) {
-    j.memberNull("hausdorff_rel").memberNull("mean_distance_rel").memberNull("hausdorff_is_lower_bound");
-    return;
-  }
-  j.member("hausdorff_rel", d.hausdorff);
-  j.member("mean_distance_rel", d.mean);
-  j.member("hausdorff_is_lower_bound", d.lowerBound);
+void writeDistance(Json& j, const Distance& d) {
+  j["hausdorff_rel"] = d.measured ? number(d.hausdorff) : Json(nullptr);
+  j["mean_distance_rel"] = d.measured ? number(d.mean) : Json(nullptr);
+  j["hausdorff_is_lower_bound"] = d.measured ? Json(d.lowerBound) : Json(nullptr);
 }
 
 /// Writes "classes": {"smooth": n, "crease": n, "corner": n, "fixed": n}.
-void writeClassCounts(sodt::JsonWriter& j, const sodt::Classification& c) {
-  j.key("classes").beginObject();
-  for (int k = 0; k < 4; ++k) j.member(sodt::toString(static_cast<sodt::VertexClass>(k)), c.count[k]);
-  j.endObject();
+void writeClassCounts(Json& j, const sodt::Classification& c) {
+  Json& counts = j["classes"] = Json::object();
+  for (int k = 0; k < 4; ++k) counts[sodt::toString(static_cast<sodt::VertexClass>(k))] = c.count[k];
 }
 
 /// "smooth 1200, crease 80, corner 8, fixed 0".
@@ -66,26 +69,27 @@ std::string classCountsText(const sodt::Classification& c) {
 
 /// Writes the parameters of a run, each under its report key in
 /// sodt::paramTable(), as shown (maxDeviation in percent).
-void writeParameters(sodt::JsonWriter& j, const sodt::SodtParams& p) {
+void writeParameters(Json& j, const sodt::SodtParams& p) {
   for (const sodt::ParamSpec& s : sodt::paramTable()) {
     if (s.reportName() == nullptr) continue;
     const double v = s.shownValue(p);
+    Json& member = j[s.reportName()];
     switch (s.type) {
-      case sodt::ParamType::Int: j.member(s.reportName(), static_cast<int>(v)); break;
-      case sodt::ParamType::Real: j.member(s.reportName(), v); break;
-      case sodt::ParamType::Bool: j.member(s.reportName(), v != 0); break;
-      case sodt::ParamType::Choice: j.member(s.reportName(), s.valueText(v)); break;
+      case sodt::ParamType::Int: member = static_cast<int>(v); break;
+      case sodt::ParamType::Real: member = number(v); break;
+      case sodt::ParamType::Bool: member = v != 0; break;
+      case sodt::ParamType::Choice: member = s.valueText(v); break;
     }
   }
 }
 
 /// Writes the members every command's report starts with.
-void writeRunHeader(sodt::JsonWriter& j, const std::string& in, const std::string& out, const MeshD& m) {
-  j.member("sodt_version", SODT_VERSION);
-  j.member("input", in);
-  j.member("output", out);
-  j.member("vertices", m.vn);
-  j.member("faces", m.fn);
+void writeRunHeader(Json& j, const std::string& in, const std::string& out, const MeshD& m) {
+  j["sodt_version"] = SODT_VERSION;
+  j["input"] = in;
+  j["output"] = out;
+  j["vertices"] = m.vn;
+  j["faces"] = m.fn;
 }
 
 /// "12.34%".
@@ -269,66 +273,49 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   const Distance& dist = r.distance;
   const sodt::SodtStats& st = r.stats;
   const long long inverted = r.inverted;
-  sodt::JsonWriter j;
-  j.beginObject();
+  Json j = Json::object();
   writeRunHeader(j, o.in, o.out, m);
   writeParameters(j, o.params);
-  j.member("distance_measured", dist.measured);
-  if (o.classesOut.empty())
-    j.memberNull("classes_output");
-  else
-    j.member("classes_output", o.classesOut);
-  j.member("sweeps", st.iterations);
-  j.member("returned_sweep", st.returnedSweep);
-  j.member("stopped_early", st.stoppedEarly);
-  j.member("flips", st.flips);
-  j.member("reoriented_faces", st.reorientedFaces);
-  j.member("seconds", r.seconds);
-  j.member("threads", st.threads);
-  j.member("min_angle_before", before.angles.minDeg);
-  j.member("min_angle_after", after.angles.minDeg);
-  j.member("max_angle_before", before.angles.maxDeg);
-  j.member("max_angle_after", after.angles.maxDeg);
+  j["distance_measured"] = dist.measured;
+  j["classes_output"] = o.classesOut.empty() ? Json(nullptr) : Json(o.classesOut);
+  j["sweeps"] = st.iterations;
+  j["returned_sweep"] = st.returnedSweep;
+  j["stopped_early"] = st.stoppedEarly;
+  j["flips"] = st.flips;
+  j["reoriented_faces"] = st.reorientedFaces;
+  j["seconds"] = number(r.seconds);
+  j["threads"] = st.threads;
+  j["min_angle_before"] = number(before.angles.minDeg);
+  j["min_angle_after"] = number(after.angles.minDeg);
+  j["max_angle_before"] = number(before.angles.maxDeg);
+  j["max_angle_after"] = number(after.angles.maxDeg);
   const bool closed = before.volume.closed && after.volume.closed;
-  if (closed) {
-    j.member("volume_before", before.volume.volume);
-    j.member("volume_after", after.volume.volume);
-    if (before.volume.volume != 0)
-      j.member("volume_rel_change",
-               (after.volume.volume - before.volume.volume) / std::fabs(before.volume.volume));
-    else
-      j.memberNull("volume_rel_change");
-  } else {
-    j.memberNull("volume_before").memberNull("volume_after").memberNull("volume_rel_change");
-  }
+  j["volume_before"] = closed ? number(before.volume.volume) : Json(nullptr);
+  j["volume_after"] = closed ? number(after.volume.volume) : Json(nullptr);
+  j["volume_rel_change"] =
+      closed && before.volume.volume != 0
+          ? number((after.volume.volume - before.volume.volume) / std::fabs(before.volume.volume))
+          : Json(nullptr);
   writeDistance(j, dist);
-  if (inverted >= 0)
-    j.member("inverted_faces", inverted);
-  else
-    j.memberNull("inverted_faces");
-  j.member("moved", st.moved);
-  j.member("backtracked", st.backtracked);
-  j.member("fallback_moves", st.fallbackMoves);
-  j.member("rejected", st.rejected);
-  j.member("failed_solves", st.failedSolves);
-  j.member("unchanged", st.unchanged);
-  j.member("skipped_visits", st.skipped);
-  j.member("deviation_queries", st.deviationQueries);
-  j.member("deviation_reused", st.deviationReused);
-  j.member("lane_visits", st.laneVisits);
-  j.member("active_vertices", st.activeVertices);
-  j.member("fixed_boundary", st.fixedBoundary);
-  j.member("fixed_nonmanifold", st.fixedNonManifold);
-  j.member("cancelled", st.cancelled);
+  j["inverted_faces"] = inverted >= 0 ? Json(inverted) : Json(nullptr);
+  j["moved"] = st.moved;
+  j["backtracked"] = st.backtracked;
+  j["fallback_moves"] = st.fallbackMoves;
+  j["rejected"] = st.rejected;
+  j["failed_solves"] = st.failedSolves;
+  j["unchanged"] = st.unchanged;
+  j["skipped_visits"] = st.skipped;
+  j["deviation_queries"] = st.deviationQueries;
+  j["deviation_reused"] = st.deviationReused;
+  j["lane_visits"] = st.laneVisits;
+  j["active_vertices"] = st.activeVertices;
+  j["fixed_boundary"] = st.fixedBoundary;
+  j["fixed_nonmanifold"] = st.fixedNonManifold;
+  j["cancelled"] = st.cancelled;
   writeClassCounts(j, r.classes);
-  j.key("before").beginObject();
-  writeMeasures(j, before);
-  j.endObject();
-  j.key("after").beginObject();
-  writeMeasures(j, after);
-  j.endObject();
-  j.endObject();
-  return j.str();
+  writeMeasures(j["before"] = Json::object(), before);
+  writeMeasures(j["after"] = Json::object(), after);
+  return text(j);
 }
 
 void printClassifySummary(const ClassifyOptions& o, const MeshD& m, const sodt::Classification& c) {
@@ -341,37 +328,30 @@ void printClassifySummary(const ClassifyOptions& o, const MeshD& m, const sodt::
 }
 
 std::string classifyReport(const ClassifyOptions& o, const MeshD& m, const sodt::Classification& c) {
-  sodt::JsonWriter j;
-  j.beginObject();
+  Json j = Json::object();
   writeRunHeader(j, o.in, o.out, m);
-  j.member("epsilon", o.params.epsilon);
-  j.member("eta", o.params.eta);
-  j.member("crease_angle_deg", creaseAngleDeg(o.params.epsilon));
+  j["epsilon"] = number(o.params.epsilon);
+  j["eta"] = number(o.params.eta);
+  j["crease_angle_deg"] = number(creaseAngleDeg(o.params.epsilon));
   writeClassCounts(j, c);
-  j.endObject();
-  return j.str();
+  return text(j);
 }
 
 std::string statsReport(const StatsOptions& o, MeshD& m, MeshD* ref, int threads) {
   const Measures s = measure(m, threads);
-  sodt::JsonWriter j;
-  j.beginObject();
-  j.member("input", o.in);
-  j.member("vertices", m.vn);
-  j.member("faces", m.fn);
+  Json j = Json::object();
+  j["input"] = o.in;
+  j["vertices"] = m.vn;
+  j["faces"] = m.fn;
   writeMeasures(j, s);
   if (ref != nullptr) {
     const Distance d = distanceTo(m, *ref, threads);
     const long long inv = (m.vn == ref->vn && m.fn == ref->fn) ? sodt::countInvertedFaces(m, *ref, threads) : -1;
-    j.member("reference", o.reference);
+    j["reference"] = o.reference;
     writeDistance(j, d);
-    if (inv >= 0)
-      j.member("inverted_faces", inv);
-    else
-      j.memberNull("inverted_faces");
+    j["inverted_faces"] = inv >= 0 ? Json(inv) : Json(nullptr);
   }
-  j.endObject();
-  return j.str();
+  return text(j);
 }
 
 }  // namespace sodt_cli

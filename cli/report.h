@@ -8,7 +8,6 @@
 
 #include <sodt/classify.h>
 #include <sodt/io.h>
-#include <sodt/json.h>
 #include <sodt/mesh.h>
 #include <sodt/metrics.h>
 #include <sodt/params.h>

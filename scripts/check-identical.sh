@@ -31,11 +31,12 @@ python=/usr/bin/python3
 [ -x "$python" ] || python=python3
 
 # One digest per output: the mesh files' bytes, the report without the
-# fields that name files or time the run.
+# fields that name files or time the run. Numbers are compared as values
+# (2, 2.0 and 2e0 are the same), not as the text a JSON writer chose.
 digest_report() {
   "$python" - "$1" <<'EOF'
 import hashlib, json, sys
-d = json.load(open(sys.argv[1]))
+d = json.load(open(sys.argv[1]), parse_int=float)
 for k in ("seconds", "threads", "input", "output", "classes_output"):
     d.pop(k, None)
 print(hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest())
@@ -85,7 +86,7 @@ digests() {  # $1 = sodt binary; prints "run file digest" lines
     echo "$name classify stdout $(sed "s|$work|WORK|g" "$work/k.txt" | sha256sum | cut -c1-64)"
     echo "$name classify json $(digest_report "$work/k.json")"
     "$bin" stats "$m" > "$work/s.json"
-    echo "$name stats json $(sha256sum < "$work/s.json" | cut -c1-64)"
+    echo "$name stats json $(digest_report "$work/s.json")"
   done
   # The numerical ODT is slow: the small bundled meshes only.
   for m in "${small[@]}"; do

@@ -15,8 +15,8 @@ PACKAGES=(
   meshlab xvfb xauth
   cmake make g++ pkg-config
   qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
-  # the command line of `sodt` (header-only CLI11)
-  libcli11-dev
+  # the command line of `sodt` (header-only CLI11) and its JSON reports
+  libcli11-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev dpkg-dev
   # fuzzing and sanitizer builds (clang's libFuzzer runtime)
   clang libclang-rt-14-dev
