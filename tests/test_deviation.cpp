@@ -97,7 +97,7 @@ TEST(DeviationGuard, FaceTestAgreesWithTheExactDistance) {
       const double band = 1e-13 * (std::abs(a[0]) + std::abs(a[1]) + std::abs(a[2]) + T.in.reach[f] + limit);
       double dist = -1;
       const bool got = T.in.nearFace(f, q, &dist);
-      if (std::abs(exact - limit) > band) ASSERT_EQ(got, want) << "face " << f << " sample " << s;
+      if (std::abs(exact - limit) > band) { ASSERT_EQ(got, want) << "face " << f << " sample " << s; }
       if (got) {
         // The distance it reports bounds the exact one from above, closely.
         ASSERT_GE(dist, exact - band) << "face " << f << " sample " << s;
@@ -186,7 +186,7 @@ TEST(DeviationGuard, FloatBelowIsALowerBound) {
   for (double x : values) {
     const float f = sodt::InputSurface::floatBelow(x);
     EXPECT_LE(static_cast<double>(f), x) << x;
-    if (std::abs(x) < 1e30 && std::abs(x) > 1e-30) EXPECT_GT(static_cast<double>(f), x - 1e-5 * std::abs(x)) << x;
+    if (std::abs(x) < 1e30 && std::abs(x) > 1e-30) { EXPECT_GT(static_cast<double>(f), x - 1e-5 * std::abs(x)) << x; }
   }
   EXPECT_TRUE(std::isnan(sodt::InputSurface::floatBelow(std::nan(""))));
 }
