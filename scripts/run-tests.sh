@@ -27,4 +27,5 @@ if [ "${SODT_QUICK:-0}" != 1 ]; then
 fi
 echo "== test suite =="
 cd "$BUILD"
+# Every label, "slow" (the full fixtures of the equivalence tests) included.
 ctest --output-on-failure -j"$JOBS" "$@"

@@ -121,7 +121,7 @@ TEST(Acceptance, OpenAneurysmKeepsItsBoundary) {
   EXPECT_GT(o.stats.fixedBoundary, 0);
   const sodt::RingTopology t = sodt::buildRingTopology(in);
   for (std::size_t i = 0; i < in.vert.size(); ++i)
-    if (t.kind[i] == sodt::VertexKind::Boundary) EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i;
+    if (t.kind[i] == sodt::VertexKind::Boundary) { EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i; }
   EXPECT_EQ(o.inverted, 0);
   EXPECT_GE(o.after.minDeg, o.before.minDeg);
 }
@@ -135,7 +135,7 @@ TEST(Acceptance, FandiskAlgorithm2KeepsCornersAndShape) {
   const Outcome o = run(shared("fandisk.ply"), sodt::Guard::Quality, &out, sodt::Algorithm::Feature, &cls);
   EXPECT_GT(cls.corner(), 0);
   for (std::size_t i = 0; i < in.vert.size(); ++i)
-    if (cls.cls[i] == sodt::VertexClass::Corner) EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i;
+    if (cls.cls[i] == sodt::VertexClass::Corner) { EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i; }
   EXPECT_LE(o.hausdorffToInput, 0.003);
   EXPECT_EQ(o.inverted, 0);
   EXPECT_GE(o.after.minDeg, 25.0);
@@ -199,7 +199,7 @@ TEST(Acceptance, FandiskAlgorithm2WithFlipsNeverFlipsACrease) {
   EXPECT_GE(o.after.minDeg, 28.0);
   EXPECT_LE(o.hausdorffToInput, 0.003);
   for (std::size_t i = 0; i < in.vert.size(); ++i)
-    if (cls.cls[i] == sodt::VertexClass::Corner) EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i;
+    if (cls.cls[i] == sodt::VertexClass::Corner) { EXPECT_EQ(out.vert[i].cP(), in.vert[i].cP()) << i; }
   const auto after = sodt_test::dihedralAngles(out);
   int creases = 0;
   for (const auto& kv : sodt_test::dihedralAngles(in)) {

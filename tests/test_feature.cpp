@@ -89,7 +89,7 @@ TYPED_TEST(FeatureTest, DenoisingKeepsCornersBitIdentical) {
   run(m, Algorithm::Denoise, 20, &c);
   EXPECT_EQ(c.corner(), 8);
   for (std::size_t i = 0; i < m.vert.size(); ++i)
-    if (c.cls[i] == VertexClass::Corner) EXPECT_EQ(m.vert[i].cP(), ref.vert[i].cP()) << i;
+    if (c.cls[i] == VertexClass::Corner) { EXPECT_EQ(m.vert[i].cP(), ref.vert[i].cP()) << i; }
   EXPECT_EQ(sodt::countInvertedFaces(m, ref), 0);
 }
 

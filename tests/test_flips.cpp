@@ -342,7 +342,7 @@ TEST(Flips, OnlySelectedFacesAreFlipped) {
   EXPECT_GT(s.flips, 0);
   // every new edge joins two selected vertices
   for (const auto& e : edgeSet(m))
-    if (!e0.count(e)) EXPECT_TRUE(m.vert[e.first].IsS() && m.vert[e.second].IsS());
+    if (!e0.count(e)) { EXPECT_TRUE(m.vert[e.first].IsS() && m.vert[e.second].IsS()); }
 }
 
 TEST(KeepBest, ReturnedQualityIsNeverBelowTheInput) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The 4-lane Algorithm 1 kernel: bit for bit the scalar solve, star by star
 // and over whole runs.
+#include "full_fixture.h"
 #include "test_mesh.h"
 
 #include <sodt/io.h>
@@ -545,32 +546,34 @@ TEST(Lanes, FaceKeysMatchTheScalarPassBitForBit) {
   EXPECT_GT(degenerate, 10000) << "the trials should hold degenerate faces";
 }
 
-TEST(Lanes, SweepsAreTheSameWithAndWithoutTheKernel) {
+SODT_FULL_FIXTURE_TEST(Lanes, SweepsAreTheSameWithAndWithoutTheKernel) {
   if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
   using sodt::Guard;
-  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::None, false, 1, 10);
-  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::None, false, 2, 10);
-  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::None, false, 2, 10);
-  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::None, false, 1, 10);
-  expectSameRuns<sodt::MeshD>("torus.off", Guard::None, true, 2, 6);
-  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::None, true, 1, 6);
-  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::Quality, false, 2, 10);
-  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Fold, false, 1, 10);
-  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Quality, true, 2, 6);
-  expectSameRuns<sodt::MeshF>("plane_grid_open.ply", Guard::Quality, false, 1, 6);
+  // Every case of the full fixture, with fewer sweeps in the small one.
+  const int many = sodt_test::fullFixture() ? 10 : 3, few = sodt_test::fullFixture() ? 6 : 2;
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::None, false, 1, many);
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::None, false, 2, many);
+  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::None, false, 2, many);
+  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::None, false, 1, many);
+  expectSameRuns<sodt::MeshD>("torus.off", Guard::None, true, 2, few);
+  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::None, true, 1, few);
+  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::Quality, false, 2, many);
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Fold, false, 1, many);
+  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Quality, true, 2, few);
+  expectSameRuns<sodt::MeshF>("plane_grid_open.ply", Guard::Quality, false, 1, few);
   // With the bound, the kernel's accepted full steps are committed when the
   // margins answer the deviation test; a tight bound leaves many to the
   // scalar visit's distance queries, a loose one few.
-  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::Quality, false, 2, 10, 1e-4);
-  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Fold, false, 1, 10, 1e-2);
+  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::Quality, false, 2, many, 1e-4);
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Fold, false, 1, many, 1e-2);
   // Without the deviation bound the kernel's accepted full steps are committed directly.
-  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::Fold, false, 1, 10, 0.0);
-  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Quality, false, 2, 10, 0.0);
-  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::Quality, false, 1, 10, 0.0);
-  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Fold, true, 2, 6, 0.0);
+  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::Fold, false, 1, many, 0.0);
+  expectSameRuns<sodt::MeshD>("blobs_mc.ply", Guard::Quality, false, 2, many, 0.0);
+  expectSameRuns<sodt::MeshF>("sphere_jitter.ply", Guard::Quality, false, 1, many, 0.0);
+  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Fold, true, 2, few, 0.0);
 }
 
-TEST(Lanes, FeatureSweepsAreTheSameWithAndWithoutTheKernel) {
+SODT_FULL_FIXTURE_TEST(Lanes, FeatureSweepsAreTheSameWithAndWithoutTheKernel) {
   // Algorithm 2 moves its smooth vertices as Algorithm 1 does, through the
   // kernel; its crease vertices, with the kernel's smooth neighbours around
   // them, go through the scalar visit.
@@ -578,12 +581,13 @@ TEST(Lanes, FeatureSweepsAreTheSameWithAndWithoutTheKernel) {
   using sodt::Algorithm;
   using sodt::Guard;
   const double bound = sodt::SodtParams().maxDeviationRel;
-  expectSameRuns<sodt::MeshF>("cube_noisy.ply", Guard::Quality, false, 1, 10, bound, Algorithm::Feature);
-  expectSameRuns<sodt::MeshD>("cube_jitter.ply", Guard::Quality, false, 2, 10, bound, Algorithm::Feature);
-  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Fold, true, 2, 6, bound, Algorithm::Feature);
-  expectSameRuns<sodt::MeshF>("cube_jitter.ply", Guard::Quality, false, 1, 10, 0.0, Algorithm::Feature);
-  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::None, false, 2, 6, bound, Algorithm::Feature);
-  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::Quality, false, 2, 10, 1e-4, Algorithm::Feature);
+  const int many = sodt_test::fullFixture() ? 10 : 3, few = sodt_test::fullFixture() ? 6 : 2;
+  expectSameRuns<sodt::MeshF>("cube_noisy.ply", Guard::Quality, false, 1, many, bound, Algorithm::Feature);
+  expectSameRuns<sodt::MeshD>("cube_jitter.ply", Guard::Quality, false, 2, many, bound, Algorithm::Feature);
+  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::Fold, true, 2, few, bound, Algorithm::Feature);
+  expectSameRuns<sodt::MeshF>("cube_jitter.ply", Guard::Quality, false, 1, many, 0.0, Algorithm::Feature);
+  expectSameRuns<sodt::MeshD>("cube_noisy.ply", Guard::None, false, 2, few, bound, Algorithm::Feature);
+  expectSameRuns<sodt::MeshF>("blobs_mc.ply", Guard::Quality, false, 2, many, 1e-4, Algorithm::Feature);
   // The cubes have creases, so both kinds of visit were compared.
   sodt::MeshD m;
   load(m, "cube_noisy.ply");
@@ -608,7 +612,7 @@ TEST(Lanes, DenoiseSweepsAreTheSameWithAndWithoutTheKernel) {
   expectSameRuns<sodt::MeshF>("torus.off", Guard::Fold, false, 1, 10, bound, Algorithm::Denoise);
 }
 
-TEST(Lanes, EveryAlgorithmIsTheSameWithAndWithoutTheStepLengthTest) {
+SODT_FULL_FIXTURE_TEST(Lanes, EveryAlgorithmIsTheSameWithAndWithoutTheStepLengthTest) {
   // The lanes test step lengths four at once for every algorithm, not only
   // for the Algorithm 1 kernel's vertices.
   if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
@@ -631,7 +635,7 @@ TEST(Lanes, EveryAlgorithmIsTheSameWithAndWithoutTheStepLengthTest) {
     sodt::SodtParams p;
     p.algorithm = r.algorithm;
     p.guard = r.guard;
-    p.iterations = 8;
+    p.iterations = sodt_test::fullFixture() ? 8 : 3;
     p.threads = r.threads;
     const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshF>::Apply(with, p);
     sodt::SweepTuning scalar;

@@ -28,6 +28,6 @@ TEST(NoLanes, ScalarBuildSmoothsWithoutTheKernel) {
     EXPECT_GT(s.moved, 0);
     const sodt::AngleStats after = sodt::computeAngleStats(m);
     EXPECT_LT(after.fracBelow30, before.fracBelow30 / 2);
-    if (g == sodt::Guard::Quality) EXPECT_GT(after.minDeg, before.minDeg);
+    if (g == sodt::Guard::Quality) { EXPECT_GT(after.minDeg, before.minDeg); }
   }
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The coloured sweep: a valid colouring, results independent of the thread
 // count, and skipped visits that change nothing.
+#include "full_fixture.h"
 #include "test_mesh.h"
 
 #include <sodt/io.h>
@@ -131,10 +132,12 @@ TEST(Colouring, NeighboursNeverShareAPhaseAndEveryVertexAppearsOnce) {
   }
 }
 
-TEST(Parallel, ResultsAreBitIdenticalForEveryThreadCount) {
+SODT_FULL_FIXTURE_TEST(Parallel, ResultsAreBitIdenticalForEveryThreadCount) {
   // blobs_mc's colours hold ~1000 vertices each, enough to be split between
   // threads; the guarded runs' phases (one colour of a tile of 2048) a few
-  // hundred, split from 128 on.
+  // hundred, split from 128 on. The small fixture takes every path too (the
+  // sphere stays above the tile count), with fewer sweeps.
+  const int sweeps = sodt_test::fullFixture() ? 10 : 3;
   MeshD input;
   loadBundled(input, "blobs_mc.ply");
   MeshD noisy;
@@ -180,7 +183,7 @@ TEST(Parallel, ResultsAreBitIdenticalForEveryThreadCount) {
       p.algorithm = c.algorithm;
       p.guard = c.guard;
       p.flips = c.flips;
-      p.iterations = 10;
+      p.iterations = sweeps;
       p.threads = threads;
       const sodt::SodtStats s = sodt::SodtSmoother<MeshD>::Apply(m, p);
       const std::string what = std::string(sodt::toString(c.algorithm)) + "/" + sodt::toString(c.guard) +

@@ -51,8 +51,8 @@ TYPED_TEST(SmootherTest, JitteredPlanarGridStaysPlanarAndImproves) {
     for (const auto& v : w.vert) EXPECT_EQ(v.cP()[2], 0) << "left the plane";
     const auto after = sodt::computeAngleStats(w);
     EXPECT_LT(after.fracBelow30, before.fracBelow30) << sodt::toString(g);
-    if (g != sodt::Guard::None) EXPECT_EQ(sodt::countInvertedFaces(w, m), 0);
-    if (g == sodt::Guard::Quality) EXPECT_GT(after.minDeg, before.minDeg + 20);
+    if (g != sodt::Guard::None) { EXPECT_EQ(sodt::countInvertedFaces(w, m), 0); }
+    if (g == sodt::Guard::Quality) { EXPECT_GT(after.minDeg, before.minDeg + 20); }
   }
 }
 
@@ -64,7 +64,7 @@ TYPED_TEST(SmootherTest, BoundaryVerticesStayBitwiseFixed) {
   EXPECT_EQ(s.fixedBoundary, 4 * 11);
   for (int y = 0; y < 12; ++y)
     for (int x = 0; x < 12; ++x)
-      if (x == 0 || y == 0 || x == 11 || y == 11) EXPECT_EQ(m.vert[y * 12 + x].cP(), p0[y * 12 + x]);
+      if (x == 0 || y == 0 || x == 11 || y == 11) { EXPECT_EQ(m.vert[y * 12 + x].cP(), p0[y * 12 + x]); }
 }
 
 TYPED_TEST(SmootherTest, UnselectedAndDeletedVerticesStayBitwiseFixed) {
@@ -200,7 +200,7 @@ TEST(Smoother, NonFiniteCoordinatesAreRejectedBeforeAnyChange) {
   const auto p0 = positions(m);
   EXPECT_THROW(smooth(m, sodt::Guard::Quality, 3), sodt::InvalidInput);
   for (std::size_t i = 0; i < m.vert.size(); ++i)
-    if (i != 7) EXPECT_EQ(m.vert[i].cP(), p0[i]);
+    if (i != 7) { EXPECT_EQ(m.vert[i].cP(), p0[i]); }
 }
 
 TEST(Smoother, BadParametersThrowAndEmptyMeshIsANoOp) {

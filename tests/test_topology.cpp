@@ -188,7 +188,7 @@ TEST(Topology, FacesSortedByVertexKeepTheRings) {
     EXPECT_EQ(b.flippable[f], a.flippable[previous[f]]);
     if (f > 0) {
       ASSERT_LE(key(f - 1), key(f)) << f;
-      if (key(f - 1) == key(f)) EXPECT_LT(previous[f - 1], previous[f]) << f;
+      if (key(f - 1) == key(f)) { EXPECT_LT(previous[f - 1], previous[f]) << f; }
     }
   }
   EXPECT_FALSE(b.live.back());

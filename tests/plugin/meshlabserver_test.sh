@@ -6,6 +6,9 @@
 # Usage: meshlabserver_test.sh MODE --plugin SO --script MLX --mesh PLY
 #                              --checker EXE [--examples DIR] [--mesh-dir DIR]
 #                              [--meshlab-lib-dir DIR]
+#        meshlabserver_test.sh --list
+# --list prints every MODE with the name of its ctest test (plugin.NAME):
+# tests/plugin/CMakeLists.txt registers one test per line.
 # --script/--mesh: the basic smoothing script and its test mesh; --examples:
 # the folder of the other example scripts (sodt_feature.mlx, sodt_denoise.mlx,
 # sodt_flips.mlx, sodt_classify.mlx); --mesh-dir: the folder of cube_jitter.ply
@@ -54,10 +57,28 @@
 # Set SODT_TEST_KEEP=1 to keep the work directory for inspection.
 set -u
 
+# Every mode and its test name: the one list of the cases.
+CASES="listed          listed_in_filter_dump
+smooth          smooths_bundled_mesh
+selection       face_selection_limits_moves
+bad-iterations  negative_iterations_fail_cleanly
+classify        classify_writes_codes_and_colours
+classify-select classify_selects_features
+feature         feature_keeps_cube_corners_and_surface
+denoise         denoise_runs_on_noisy_cube
+bad-epsilon     negative_epsilon_fails_cleanly
+flips           flips_change_connectivity_only
+bad-flips       bad_flip_parameters_fail_cleanly
+threads         threads_do_not_change_the_result"
+
 FILTER="S-ODT Smoothing"
 CLASSIFY_FILTER="S-ODT: Classify Feature Vertices"
 MODE="${1:-}"
 shift || true
+if [ "$MODE" = --list ]; then
+  echo "$CASES"
+  exit 0
+fi
 PLUGIN="" SCRIPT="" MESH="" CHECKER="" EXAMPLES="" MESHDIR=""
 MLLIB="/usr/lib/x86_64-linux-gnu/meshlab"
 while [ $# -gt 0 ]; do
@@ -76,10 +97,7 @@ done
 fail() { echo "FAIL: $*"; exit 1; }
 pass() { echo "PASS: $*"; exit 0; }
 
-case "$MODE" in
-  listed|smooth|selection|bad-iterations|classify|classify-select|feature|denoise|bad-epsilon|flips|bad-flips|threads) ;;
-  *) echo "unknown mode '$MODE'" >&2; exit 2 ;;
-esac
+echo "$CASES" | awk '{print $1}' | grep -qxF -- "$MODE" || { echo "unknown mode '$MODE'" >&2; exit 2; }
 [ -f "$PLUGIN" ] || fail "built plugin not found at '$PLUGIN' (build the filter_sodt target first)"
 [ -f "$SCRIPT" ] || fail "example script not found at '$SCRIPT'"
 command -v xvfb-run >/dev/null || fail "xvfb-run is not installed (apt-get install xvfb xauth)"
@@ -383,4 +401,6 @@ PLY
     expect_clean_failure "threads=1025" "$WORK/out_bad.ply" "threads must be in"
     pass "threads=1 and threads=2 wrote byte-identical meshes; threads=1025 is rejected without output"
     ;;
+
+  *) fail "mode '$MODE' is in CASES but has no test here" ;;
 esac

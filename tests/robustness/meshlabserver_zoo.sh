@@ -6,6 +6,10 @@
 #
 # Usage: meshlabserver_zoo.sh MODE --plugin SO --script MLX --tool EXE
 #                             [--meshlab-lib-dir DIR]
+#        meshlabserver_zoo.sh --list
+# --list prints every MODE, the name of its ctest test (robustness.plugin.NAME)
+# and its labels besides "robustness": tests/robustness/CMakeLists.txt
+# registers one test per line.
 # --script: filter_sodt/examples/sodt_smoothing.mlx; --tool: sodt_zoo_tool.
 # MODE:
 #   zoo              every zoo mesh of the plugin subset (non-manifold edge,
@@ -23,12 +27,20 @@
 #                    the flattened zoo sphere with guard "None (paper,
 #                    literal)" diverges; regression test that the float
 #                    CMeshO never gets +-inf/NaN coordinates. Asserts:
-#                    exit 0 with a finite output. Fails until fixed.
+#                    exit 0 with a finite output.
 # Set SODT_TEST_KEEP=1 to keep the work directory.
 set -u
 
+# Every mode, its test name and its labels (comma-separated): the one list of the cases.
+CASES="zoo                  zoo_never_crashes_meshlabserver       plugin,meshlab
+guard-none-overflow  regression_guard_none_float_overflow  regression"
+
 MODE="${1:-}"
 shift || true
+if [ "$MODE" = --list ]; then
+  echo "$CASES"
+  exit 0
+fi
 PLUGIN="" SCRIPT="" TOOL=""
 MLLIB="/usr/lib/x86_64-linux-gnu/meshlab"
 while [ $# -gt 0 ]; do
@@ -43,10 +55,7 @@ done
 
 fail() { echo "FAIL: $*"; exit 1; }
 
-case "$MODE" in
-  zoo|guard-none-overflow) ;;
-  *) echo "unknown mode '$MODE'" >&2; exit 2 ;;
-esac
+echo "$CASES" | awk '{print $1}' | grep -qxF -- "$MODE" || { echo "unknown mode '$MODE'" >&2; exit 2; }
 [ -f "$PLUGIN" ] || fail "built plugin not found at '$PLUGIN' (build the filter_sodt target first)"
 [ -f "$SCRIPT" ] || fail "example script not found at '$SCRIPT'"
 [ -x "$TOOL" ] || fail "sodt_zoo_tool not found at '$TOOL'"
@@ -176,4 +185,6 @@ case "$MODE" in
     check="$("$TOOL" check flattened "$out")" || fail "guard None wrote a bad mesh: $check"
     echo "PASS: $check"
     ;;
+
+  *) fail "mode '$MODE' is in CASES but has no test here" ;;
 esac

@@ -619,7 +619,9 @@ inline void targets4(const double*, const int*, int, Targets& out, const GuardIn
   out.ok = 0;
   if (verdict) verdict->allowed = verdict->refused = 0;
 }
-inline void faceKeys4(const double*, const int*, const double*, FaceKeys& out) { out.inverted = 0; }
+inline void faceKeys4(const double*, const int*, const double*, FaceKeys& out) {
+  out = FaceKeys();  // never called: available() is false
+}
 inline int allowedAt(const Vec3*, int, const Vec3*, const double*, const Vec3*, bool, double, const Vec3*, int,
                      int*) {
   return 0;
