@@ -12,11 +12,11 @@
 //   sodt_bench_scaling --load-only IN.ply
 //   sodt_bench_scaling --smooth-only IN.ply OUT.ply [--sweeps N] [--threads T]
 
-#include <sodt/io.h>
-#include <sodt/mesh.h>
-#include <sodt/metrics.h>
+#include <sodt_io/io.h>
+#include <sodt_io/mesh.h>
+#include <sodt_io/metrics.h>
 #include <sodt/params.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/prebuilt.h>
 
 #include <vcg/complex/algorithms/smooth.h>
 #include <vcg/complex/algorithms/update/bounding.h>

@@ -2,9 +2,9 @@
 // Wall-clock cost of one S-ODT sweep (Algorithm 1, each guard) on float and double
 // vcg meshes, next to vcglib's VertexCoordLaplacian on the same mesh for reference.
 
-#include <sodt/mesh.h>
+#include <sodt_io/mesh.h>
 #include <sodt/params.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/prebuilt.h>
 
 #include <vcg/complex/algorithms/smooth.h>
 #include <vcg/complex/algorithms/update/bounding.h>

@@ -4,7 +4,7 @@
 // checks of numbers, choices and file names (exit status 2 when one fails).
 #include "options.h"
 
-#include <sodt/io.h>
+#include <sodt_io/io.h>
 
 #include <cerrno>
 #include <climits>

@@ -7,9 +7,9 @@
 #include "options.h"
 
 #include <sodt/classify.h>
-#include <sodt/io.h>
-#include <sodt/mesh.h>
-#include <sodt/metrics.h>
+#include <sodt_io/io.h>
+#include <sodt_io/mesh.h>
+#include <sodt_io/metrics.h>
 #include <sodt/params.h>
 
 #include <array>

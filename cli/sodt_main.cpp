@@ -8,10 +8,10 @@
 #include "report.h"
 
 #include <sodt/classify.h>
-#include <sodt/io.h>
-#include <sodt/mesh.h>
+#include <sodt_io/io.h>
+#include <sodt_io/mesh.h>
 #include <sodt/params.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/prebuilt.h>
 
 #include <algorithm>
 #include <atomic>

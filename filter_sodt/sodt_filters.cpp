@@ -6,7 +6,7 @@
 #include "sodt_rich_params.h"
 
 #include <sodt/classify.h>
-#include <sodt/metrics.h>
+#include <sodt_io/metrics.h>
 #include <sodt/output.h>
 #include <sodt/params.h>
 #include <sodt/smoother.h>

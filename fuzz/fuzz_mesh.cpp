@@ -31,9 +31,9 @@
 //                               findings in fuzz/regressions/, to look for new ones
 //   SODT_FUZZ_DISTANCE_EVERY=N  run surfaceDistance on 1 input in N (default 8;
 //                               1 = always), chosen by a hash of the input
-#include <sodt/io.h>
-#include <sodt/metrics.h>
-#include <sodt/mesh.h>
+#include <sodt_io/io.h>
+#include <sodt_io/metrics.h>
+#include <sodt_io/mesh.h>
 #include <sodt/params.h>
 #include <sodt/smoother.h>
 

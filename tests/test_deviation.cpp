@@ -3,9 +3,9 @@
 // point-triangle distance everywhere, and the margins it keeps between visits
 // must not change any result.
 #include <sodt/deviation.h>
-#include <sodt/io.h>
-#include <sodt/mesh.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/io.h>
+#include <sodt_io/mesh.h>
+#include <sodt_io/prebuilt.h>
 
 #include <vcg/complex/append.h>
 

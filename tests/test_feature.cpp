@@ -3,8 +3,8 @@
 // shapes with known features: cubes keep corners and edges, noise goes down.
 #include "test_mesh.h"
 
-#include <sodt/metrics.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/metrics.h>
+#include <sodt_io/prebuilt.h>
 
 #include <gtest/gtest.h>
 

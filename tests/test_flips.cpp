@@ -4,9 +4,9 @@
 #include "test_mesh.h"
 
 #include <sodt/flips.h>
-#include <sodt/io.h>
-#include <sodt/metrics.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/io.h>
+#include <sodt_io/metrics.h>
+#include <sodt_io/prebuilt.h>
 #include <sodt/topology.h>
 
 #include <gtest/gtest.h>

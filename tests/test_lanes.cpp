@@ -4,10 +4,10 @@
 #include "full_fixture.h"
 #include "test_mesh.h"
 
-#include <sodt/io.h>
+#include <sodt_io/io.h>
 #include <sodt/lanes.h>
 #include <sodt/local_solve.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/prebuilt.h>
 #include <sodt/sweep_quality.h>
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // all deterministic (seeded std::mt19937 with hand-made uniform draws).
 #pragma once
 
-#include <sodt/mesh.h>
+#include <sodt_io/mesh.h>
 
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/create/platonic.h>

@@ -2,7 +2,7 @@
 // Tests of the quality measures on shapes with known answers.
 #include "test_mesh.h"
 
-#include <sodt/metrics.h>
+#include <sodt_io/metrics.h>
 #include <vcg/complex/append.h>
 
 #include <gtest/gtest.h>

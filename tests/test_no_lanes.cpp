@@ -4,7 +4,7 @@
 // report no kernel and smooth with the scalar code.
 #include "test_mesh.h"
 
-#include <sodt/metrics.h>
+#include <sodt_io/metrics.h>
 #include <sodt/smoother.h>
 
 #include <gtest/gtest.h>

@@ -2,8 +2,8 @@
 // The normals Apply writes, against vcglib's normal update.
 #include "test_mesh.h"
 
-#include <sodt/mesh.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/mesh.h>
+#include <sodt_io/prebuilt.h>
 
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/append.h>

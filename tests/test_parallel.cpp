@@ -4,9 +4,9 @@
 #include "full_fixture.h"
 #include "test_mesh.h"
 
-#include <sodt/io.h>
-#include <sodt/metrics.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/io.h>
+#include <sodt_io/metrics.h>
+#include <sodt_io/prebuilt.h>
 
 #include <gtest/gtest.h>
 

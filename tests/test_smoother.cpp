@@ -3,9 +3,9 @@
 // (CMeshO-like) and the double mesh type: volume, planarity, guards, fixed sets.
 #include "test_mesh.h"
 
-#include <sodt/io.h>
-#include <sodt/metrics.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/io.h>
+#include <sodt_io/metrics.h>
+#include <sodt_io/prebuilt.h>
 
 #include <gtest/gtest.h>
 

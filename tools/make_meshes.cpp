@@ -6,9 +6,9 @@
 #include "mesh_check.h"
 
 #include <sodt/geometry.h>
-#include <sodt/io.h>
-#include <sodt/mesh.h>
-#include <sodt/metrics.h>
+#include <sodt_io/io.h>
+#include <sodt_io/mesh.h>
+#include <sodt_io/metrics.h>
 
 #include <vcg/complex/algorithms/create/marching_cubes.h>
 #include <vcg/complex/algorithms/create/mc_trivial_walker.h>

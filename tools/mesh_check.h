@@ -4,7 +4,7 @@
 #pragma once
 
 #include <sodt/geometry.h>
-#include <sodt/metrics.h>
+#include <sodt_io/metrics.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -32,7 +32,7 @@ struct MeshCheck {
   int components = 0;             ///< vertex-connected components (isolated vertices excluded)
   int boundaryLoops = 0;           ///< cycles of boundary edges (edge-manifold meshes only)
   double volume = 0;               ///< signed enclosed volume; 0 unless closed and oriented
-  AngleStats angles;               ///< corner angles in degrees (sodt/metrics.h)
+  AngleStats angles;               ///< corner angles in degrees (sodt_io/metrics.h)
   long long anglesBelow1Deg = 0;   ///< corner angles below 1 degree
 
   bool closedManifold() const {

@@ -4,9 +4,9 @@
 
 #include "process.h"
 
-#include <sodt/io.h>
-#include <sodt/mesh.h>
-#include <sodt/metrics.h>
+#include <sodt_io/io.h>
+#include <sodt_io/mesh.h>
+#include <sodt_io/metrics.h>
 #include <sodt/smoother.h>
 
 #include <sys/stat.h>

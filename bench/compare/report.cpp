@@ -212,7 +212,7 @@ std::string markdownReport(const std::vector<MeshReport>& reports, const Options
        "folder `../shared/meshes` next to the checkout):\n\n";
   o << "```sh\ncmake -S . -B build && cmake --build build -j2 --target sodt_compare\n" << commandLine << "\n```\n\n";
   o << "`sodt_compare` builds the S-ODT plugin first (a target dependency), runs every method on the same input, "
-       "measures every output with the core's metrics (`vcg_core/sodt/metrics.h`) and writes this file and the "
+       "measures every output with the core's metrics (`vcg_core/sodt_io/metrics.h`) and writes this file and the "
        "SVG figures in `"
     << figDir << "/`. Meshes, `.mlx` scripts and meshlabserver logs go to the work folder (`--work`).\n\n";
 

@@ -4,7 +4,7 @@
 // Meshes the binary writes are read back with the project's own loader.
 #include <gtest/gtest.h>
 
-#include <sodt/io.h>
+#include <sodt_io/io.h>
 #include <sodt/output.h>
 #include <sodt/params.h>
 

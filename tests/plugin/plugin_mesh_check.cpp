@@ -38,9 +38,9 @@
 // Prints one "key: value" line per measure, then "PASS" or one "FAIL: ..."
 // line per failed check. Exit status: 0 pass, 1 a check failed, 2 error.
 
-#include <sodt/io.h>
-#include <sodt/mesh.h>
-#include <sodt/metrics.h>
+#include <sodt_io/io.h>
+#include <sodt_io/mesh.h>
+#include <sodt_io/metrics.h>
 #include <sodt/output.h>
 
 #include <wrap/io_trimesh/export_ply.h>

@@ -4,7 +4,7 @@
 // each with the outcome the core, the CLI and the plugin are expected to give.
 #pragma once
 
-#include <sodt/mesh.h>
+#include <sodt_io/mesh.h>
 
 #include <array>
 #include <cstdint>

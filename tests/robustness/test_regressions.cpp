@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include <sodt/io.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/io.h>
+#include <sodt_io/prebuilt.h>
 #include <sodt/topology.h>
 
 #include <cmath>
@@ -92,7 +92,7 @@ TEST(RegressionCore, VerticesOnlyInRepeatedIndexFacesAreNonManifold) {
 // ---------------------------------------------------------------------------
 // CLI
 
-/// BUG: vcg_core/sodt/metrics.h, sodt::surfaceDistance() ->
+/// BUG: vcg_core/sodt_io/metrics.h, sodt::surfaceDistance() ->
 /// detail::oneSidedDistance() -> vcg SurfaceSampling::Montecarlo segfaults
 /// (SIGSEGV, exit 139) when every face has zero area but the bounding box is
 /// not flat: `sodt smooth` (distanceTo) and `sodt stats --reference` crash.
@@ -140,7 +140,7 @@ std::string bigPolygon(int n) {
   return s;
 }
 
-/// BUG: vcg_core/sodt/io.cpp, loadPly(): vcglib 2020.09's PLY reader keeps a
+/// BUG: vcg_core/sodt_io/io.cpp, loadPly(): vcglib 2020.09's PLY reader keeps a
 /// face's corners in `int v[512]` (import_ply.h LoadPly_FaceAux) and its count
 /// in an unsigned char, and plylib.cpp ReadBin() writes as many corners as
 /// the file's count says. checkPlyHeader() bounds the element counts only.
@@ -166,7 +166,7 @@ TEST(RegressionCli, PlyPolygonsWithManyCornersLoadOrFailCleanly) {
   }
 }
 
-/// BUG: vcg_core/sodt/io.cpp, loadPly(): a PLY face with 0, 1 or 2 corners
+/// BUG: vcg_core/sodt_io/io.cpp, loadPly(): a PLY face with 0, 1 or 2 corners
 /// is accepted and becomes a fabricated triangle: vcglib reads v[0..2] of its
 /// face buffer, which hold the previous face's corners or, for the first
 /// face, uninitialised stack memory (undefined behaviour; observed (0, 0, 0)

@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include <sodt/io.h>
-#include <sodt/metrics.h>
+#include <sodt_io/io.h>
+#include <sodt_io/metrics.h>
 
 #include <cmath>
 #include <cstdint>

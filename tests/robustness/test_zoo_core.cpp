@@ -11,9 +11,9 @@
 
 #include <gtest/gtest.h>
 
-#include <sodt/io.h>
-#include <sodt/metrics.h>
-#include <sodt/prebuilt.h>
+#include <sodt_io/io.h>
+#include <sodt_io/metrics.h>
+#include <sodt_io/prebuilt.h>
 #include <sodt/topology.h>
 
 #include <algorithm>

@@ -20,7 +20,7 @@
 #include "defect_zoo.h"
 #include "zoo_checks.h"
 
-#include <sodt/io.h>
+#include <sodt_io/io.h>
 
 #include <cstdio>
 #include <cstring>

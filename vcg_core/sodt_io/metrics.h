@@ -3,8 +3,8 @@
 // angles, enclosed volume, Hausdorff distance, faces turned against a reference.
 #pragma once
 
-#include "geometry.h"
-#include "lanes.h"
+#include <sodt/geometry.h>
+#include <sodt/lanes.h>
 #include "mesh.h"
 
 #include <Eigen/Eigenvalues>

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "mesh.h"
-#include "params.h"
+#include <sodt/params.h>
 
 #include <stdexcept>
 #include <string>

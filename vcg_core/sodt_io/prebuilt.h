@@ -10,7 +10,7 @@
 #pragma once
 
 #include "mesh.h"
-#include "smoother.h"
+#include <sodt/smoother.h>
 
 namespace sodt {
 
