@@ -53,18 +53,9 @@ bool FilterSodtPlugin::applyFilter(QAction* a, MeshDocument& md, const RichParam
   const sodt_plugin::LogFn log = [this](sodt_plugin::LogLevel level, const std::string& line) {
     Log(level == sodt_plugin::LogLevel::Warning ? GLLogStream::WARNING : GLLogStream::FILTER, line);
   };
-  try {
-    if (md.mm() == nullptr) throw std::invalid_argument("there is no current mesh.");
-    switch (id) {
-      case sodt_plugin::kSmooth: sodt_plugin::applySmoothing(*md.mm(), par, cb, log); return true;
-      case sodt_plugin::kClassify: sodt_plugin::applyClassify(*md.mm(), par, log); return true;
-    }
-    errorMessage = "S-ODT: unknown filter '" + a->text() + "'";
-  } catch (const std::exception& e) {
-    errorMessage = sodt_plugin::failureMessage(id, e.what());
-  } catch (...) {
-    errorMessage = sodt_plugin::failureMessage(id, nullptr);
-  }
+  sodt_plugin::Report report;  // MeshLab 2020.09 has no channel for it: the log says it all
+  errorMessage = sodt_plugin::runFilter(id, a->text(), md.mm(), par, cb, log, report);
+  if (errorMessage.isEmpty()) return true;
   Log(GLLogStream::WARNING, errorMessage.toStdString());
   return false;
 }

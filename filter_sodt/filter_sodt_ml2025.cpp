@@ -55,20 +55,10 @@ std::map<std::string, QVariant> FilterSodtPlugin::applyFilter(const QAction* a, 
   const sodt_plugin::LogFn logLine = [this](sodt_plugin::LogLevel level, const std::string& line) {
     log(level == sodt_plugin::LogLevel::Warning ? GLLogStream::WARNING : GLLogStream::FILTER, line);
   };
-  QString error;
-  try {
-    if (md.mm() == nullptr) throw std::invalid_argument("there is no current mesh.");
-    postConditionMask = static_cast<unsigned int>(sodt_plugin::postConditionMask(id));
-    switch (id) {
-      case sodt_plugin::kSmooth: return sodt_plugin::applySmoothing(*md.mm(), par, cb, logLine);
-      case sodt_plugin::kClassify: return sodt_plugin::applyClassify(*md.mm(), par, logLine);
-    }
-    error = "S-ODT: unknown filter '" + a->text() + "'";
-  } catch (const std::exception& e) {
-    error = sodt_plugin::failureMessage(id, e.what());
-  } catch (...) {
-    error = sodt_plugin::failureMessage(id, nullptr);
-  }
+  postConditionMask = static_cast<unsigned int>(sodt_plugin::postConditionMask(id));
+  sodt_plugin::Report report;
+  const QString error = sodt_plugin::runFilter(id, a->text(), md.mm(), par, cb, logLine, report);
+  if (error.isEmpty()) return report;
   log(GLLogStream::WARNING, error.toStdString());
   throw MLException(error);
 }

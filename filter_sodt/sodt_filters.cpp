@@ -223,47 +223,177 @@ QVariant count(long long n) {
 
 }  // namespace
 
+namespace {
+
+/// What applySmoothing measured and did, for its log and report.
+struct SmoothingRun {
+  sodt::SodtParams p;
+  bool outputClass = false;
+  sodt::AngleStats before, after;
+  sodt::VolumeResult volBefore, volAfter;
+  double volRel = 0;
+  sodt::SodtStats s;
+  sodt::Classification classes;
+  long long facesChanged = 0;  ///< faces whose vertices differ after the run
+};
+
+/// Refuses what the smoother cannot do to this mesh with parameters p,
+/// before anything is touched.
+void checkSmoothable(MeshModel& mm, const sodt::SodtParams& p) {
+  CMeshO& m = mm.cm;
+  p.validate();
+  if (m.fn == 0) throw sodt::InvalidInput("it needs a triangle mesh, but the current mesh has no faces.");
+  if (p.flips) {
+    // A flip rewires two faces' vertex references; the core knows nothing
+    // of per-wedge data or of the faux edges that describe polygons.
+    if (mm.hasDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_WEDGNORMAL | MeshModel::MM_WEDGCOLOR))
+      throw sodt::InvalidInput(
+          "flips would scramble the per-wedge texture coordinates, normals or colours of this mesh. "
+          "Turn 'Edge flips' off, or remove the wedge attributes first.");
+    if (mm.hasDataMask(MeshModel::MM_POLYGONAL))
+      throw sodt::InvalidInput(
+          "flips would break the polygonal faces of this mesh. Turn 'Edge flips' off, or make it a "
+          "pure triangle mesh first (filter 'Turn into a Pure-Triangular mesh').");
+  }
+}
+
+/// With 'Affect only selection' and only faces selected: selects the
+/// vertices whose faces are all selected (so that no unselected face
+/// changes shape). True when it did.
+bool selectVerticesOfSelectedFaces(CMeshO& m, const LogFn& log) {
+  bool converted = false;
+  size_t selected = vcg::tri::UpdateSelection<CMeshO>::VertexCount(m);
+  if (selected == 0 && vcg::tri::UpdateSelection<CMeshO>::FaceCount(m) > 0) {
+    // Strict: only vertices whose faces are all selected, so that no
+    // unselected face changes shape.
+    selected = vcg::tri::UpdateSelection<CMeshO>::VertexFromFaceStrict(m);
+    m.svn = int(selected);
+    converted = true;
+    log(LogLevel::Info, strFormat("S-ODT: converted the face selection to %d selected vertices", int(selected)));
+  }
+  if (selected == 0)
+    log(LogLevel::Warning, "S-ODT: 'Affect only selection' is on but nothing is selected; no vertex will move");
+  return converted;
+}
+
+/// The summary of a run in MeshLab's log.
+void logSmoothing(const SmoothingRun& run, const LogFn& log) {
+  const sodt::SodtParams& p = run.p;
+  const sodt::SodtStats& s = run.s;
+  const sodt::AngleStats &before = run.before, &after = run.after;
+  const sodt::VolumeResult &volBefore = run.volBefore, &volAfter = run.volAfter;
+  const double volRel = run.volRel;
+  const sodt::Classification& classes = run.classes;
+  const bool outputClass = run.outputClass;
+  const long long facesChanged = run.facesChanged;
+  log(LogLevel::Info, strFormat("S-ODT: algorithm %s, guard %s, %d iterations, max backtracks %d, "
+                                "Laplacian fallback %s, selected only %s",
+                                sodt::toString(p.algorithm), sodt::toString(p.guard), p.iterations,
+                                p.maxBacktracks, yesNo(p.laplacianFallback), yesNo(p.selectedOnly)));
+  if (p.algorithm != sodt::Algorithm::Basic)
+    log(LogLevel::Info, strFormat("S-ODT: epsilon %g, eta %g", p.epsilon, p.eta));
+  if (p.algorithm == sodt::Algorithm::Denoise)
+    log(LogLevel::Info, strFormat("S-ODT: max normal step %g x mean edge length", p.maxNormalStepRel));
+  else if (p.guard != sodt::Guard::None && p.maxDeviationRel > 0)
+    log(LogLevel::Info, strFormat("S-ODT: deviation guard %g%% of the bounding-box diagonal",
+                                  sodt::paramSpec("maxDeviationRel").shownValue(p)));
+  log(LogLevel::Info, strFormat("S-ODT: min angle %.4f -> %.4f deg, max angle %.4f -> %.4f deg, "
+                                "angles below 30 deg %.3f%% -> %.3f%%",
+                                before.minDeg, after.minDeg, before.maxDeg, after.maxDeg,
+                                100.0 * before.fracBelow30, 100.0 * after.fracBelow30));
+  if (volBefore.closed)
+    log(LogLevel::Info, strFormat("S-ODT: enclosed volume %.9g -> %.9g (relative change %+.2e)",
+                                  volBefore.volume, volAfter.volume, volRel));
+  else
+    log(LogLevel::Info, "S-ODT: the mesh is not closed; enclosed volume not reported");
+  log(LogLevel::Info, strFormat("S-ODT: vertex classes: %s%s", classCounts(classes).c_str(),
+                                outputClass ? "; written to vertex quality and colour" : ""));
+  log(LogLevel::Info,
+      strFormat("S-ODT: %d sweeps over %d active vertices with %d thread%s: %lld moved, %lld backtracked, "
+                "%lld Laplacian fallback, %lld rejected, %lld failed solves, %lld unchanged (%lld repeated "
+                "their previous visit: nothing in their star had moved); fixed %d boundary and %d non-manifold "
+                "vertices",
+                s.iterations, s.activeVertices, s.threads, s.threads == 1 ? "" : "s", s.moved, s.backtracked,
+                s.fallbackMoves, s.rejected, s.failedSolves, s.unchanged, s.skipped, s.fixedBoundary,
+                s.fixedNonManifold));
+  if (s.reorientedFaces > 0)
+    log(LogLevel::Info, strFormat("S-ODT: turned %d faces over so that each part of the mesh has one winding",
+                                  s.reorientedFaces));
+  if (s.fixedNonManifold > 0)
+    log(LogLevel::Warning,
+        strFormat("S-ODT: %d vertices stayed fixed: their faces are non-manifold (an edge with three or more "
+                  "faces, a pinch) or cannot be given one winding",
+                  s.fixedNonManifold));
+  if (p.flips)
+    log(LogLevel::Info,
+        strFormat("S-ODT: edge flips: %lld (max dihedral %g deg); %s", s.flips, p.flipMaxDihedralDeg,
+                  facesChanged > 0
+                      ? strFormat("the connectivity changed: %lld faces have other vertices (same vertex "
+                                  "and face counts)", facesChanged).c_str()
+                      : "the returned state has the input's connectivity"));
+  else
+    log(LogLevel::Info, "S-ODT: edge flips: off");
+  std::string ending;
+  if (s.stoppedEarly)
+    ending = strFormat("; stopped early: the last sweep raised the min angle and its 1st percentile by at "
+                       "most the tolerance %g deg", p.toleranceDeg);
+  else if (p.toleranceDeg > 0)
+    ending = strFormat("; tolerance %g deg not reached", p.toleranceDeg);
+  log(LogLevel::Info, strFormat("S-ODT: returned the state after sweep %d of %d run (keep best %s)%s",
+                                s.returnedSweep, s.iterations, yesNo(p.keepBest), ending.c_str()));
+  if (s.cancelled) log(LogLevel::Warning, strFormat("S-ODT: cancelled after %d sweeps", s.iterations));
+}
+
+/// The report of a run (PyMeshLab's return value).
+Report smoothingReport(const CMeshO& m, const SmoothingRun& run) {
+  const sodt::SodtStats& s = run.s;
+  Report r;
+  r["vertices"] = m.vn;
+  r["faces"] = m.fn;
+  const std::pair<const char*, double> angles[] = {
+      {"min_angle_before", run.before.minDeg}, {"min_angle_after", run.after.minDeg},
+      {"max_angle_before", run.before.maxDeg}, {"max_angle_after", run.after.maxDeg},
+      {"frac_below_30_before", run.before.fracBelow30}, {"frac_below_30_after", run.after.fracBelow30}};
+  for (const auto& a : angles) r[a.first] = a.second;
+  r["closed"] = run.volBefore.closed;
+  if (run.volBefore.closed) {
+    r["volume_before"] = run.volBefore.volume;
+    r["volume_after"] = run.volAfter.volume;
+    r["volume_rel_change"] = run.volRel;
+  }
+  addClassCounts(r, run.classes);
+  const std::pair<const char*, int> state[] = {
+      {"fixed_boundary", s.fixedBoundary}, {"fixed_nonmanifold", s.fixedNonManifold},
+      {"active_vertices", s.activeVertices}, {"sweeps", s.iterations}, {"returned_sweep", s.returnedSweep},
+      {"reoriented_faces", s.reorientedFaces}, {"threads", s.threads}};
+  for (const auto& v : state) r[v.first] = v.second;
+  r["stopped_early"] = s.stoppedEarly;
+  r["cancelled"] = s.cancelled;
+  const std::pair<const char*, long long> counters[] = {
+      {"moved", s.moved}, {"backtracked", s.backtracked}, {"fallback_moves", s.fallbackMoves},
+      {"rejected", s.rejected}, {"failed_solves", s.failedSolves}, {"unchanged", s.unchanged},
+      {"skipped_visits", s.skipped}, {"flips", s.flips}, {"faces_changed", run.facesChanged}};
+  for (const auto& c : counters) r[c.first] = count(c.second);
+  r["seconds"] = s.sweepSeconds;
+  return r;
+}
+
+}  // namespace
+
 Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBackPos* cb,
                       const LogFn& log) {
   CMeshO& m = mm.cm;
   bool selectionConverted = false;
   try {
-    // Everything that can be rejected is checked before the mesh is touched.
-    const sodt::SodtParams p = readSodtParams(par);
-    const bool outputClass = readOutputClass(par);
-    p.validate();
-    if (m.fn == 0) throw sodt::InvalidInput("it needs a triangle mesh, but the current mesh has no faces.");
-    if (p.flips) {
-      // A flip rewires two faces' vertex references; the core knows nothing
-      // of per-wedge data or of the faux edges that describe polygons.
-      if (mm.hasDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_WEDGNORMAL | MeshModel::MM_WEDGCOLOR))
-        throw sodt::InvalidInput(
-            "flips would scramble the per-wedge texture coordinates, normals or colours of this mesh. "
-            "Turn 'Edge flips' off, or remove the wedge attributes first.");
-      if (mm.hasDataMask(MeshModel::MM_POLYGONAL))
-        throw sodt::InvalidInput(
-            "flips would break the polygonal faces of this mesh. Turn 'Edge flips' off, or make it a "
-            "pure triangle mesh first (filter 'Turn into a Pure-Triangular mesh').");
-    }
-
-    if (p.selectedOnly) {
-      size_t selected = vcg::tri::UpdateSelection<CMeshO>::VertexCount(m);
-      if (selected == 0 && vcg::tri::UpdateSelection<CMeshO>::FaceCount(m) > 0) {
-        // Strict: only vertices whose faces are all selected, so that no
-        // unselected face changes shape.
-        selected = vcg::tri::UpdateSelection<CMeshO>::VertexFromFaceStrict(m);
-        m.svn = int(selected);
-        selectionConverted = true;
-        log(LogLevel::Info, strFormat("S-ODT: converted the face selection to %d selected vertices", int(selected)));
-      }
-      if (selected == 0)
-        log(LogLevel::Warning, "S-ODT: 'Affect only selection' is on but nothing is selected; no vertex will move");
-    }
-
+    SmoothingRun run;
+    const sodt::SodtParams& p = run.p = readSodtParams(par);
+    run.outputClass = readOutputClass(par);
+    checkSmoothable(mm, p);
+    if (p.selectedOnly) selectionConverted = selectVerticesOfSelectedFaces(m, log);
     // The measures do not depend on the number of threads either.
     const int measureThreads = sodt::resolveThreads(p.threads);
-    const sodt::AngleStats before = sodt::computeAngleStats(m, measureThreads);
-    const sodt::VolumeResult volBefore = sodt::enclosedVolume(m, measureThreads);
+    run.before = sodt::computeAngleStats(m, measureThreads);
+    run.volBefore = sodt::enclosedVolume(m, measureThreads);
 
     // The faces' vertex references, to tell whether the returned state has
     // other faces (keepBest may return a state from before the flips).
@@ -272,16 +402,14 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
       for (const CFaceO& f : m.face)
         for (int j = 0; j < 3; ++j) faceVertsBefore.push_back(f.IsD() ? nullptr : f.cV(j));
 
-    sodt::Classification classes;
-    const sodt::SodtStats s = sodt::SodtSmoother<CMeshO>::Apply(m, p, cb, &classes);
+    const sodt::SodtStats& s = run.s = sodt::SodtSmoother<CMeshO>::Apply(m, p, cb, &run.classes);
     // From here on the mesh has changed: nothing below may throw.
     selectionConverted = false;
-    long long facesChanged = 0;
     if (p.flips)
       for (size_t f = 0; f < m.face.size(); ++f)
         for (int j = 0; j < 3; ++j)
           if (!m.face[f].IsD() && m.face[f].cV(j) != faceVertsBefore[3 * f + size_t(j)]) {
-            ++facesChanged;
+            ++run.facesChanged;
             break;
           }
     // Flips move edges between face slots: per-face-edge border flags set
@@ -289,113 +417,20 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
     // rebuilt FF and VF adjacency where they are enabled.)
     if (s.flips > 0 || s.reorientedFaces > 0) vcg::tri::UpdateFlags<CMeshO>::FaceBorderFromNone(m);
     sodt_meshlab::updateBoxAndNormals(mm);
-    if (outputClass) {
+    if (run.outputClass) {
       // Without the mask the GUI neither shows nor saves the colours (and
       // quality); both components always exist in CMeshO.
       mm.updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
-      sodt::writeClassToQuality(m, classes);
-      sodt::colorizeByClass(m, classes);
+      sodt::writeClassToQuality(m, run.classes);
+      sodt::colorizeByClass(m, run.classes);
     }
 
-    const sodt::AngleStats after = sodt::computeAngleStats(m, s.threads);
-    sodt::VolumeResult volAfter;
-    if (volBefore.closed) volAfter = sodt::enclosedVolume(m, s.threads);
-    const double volRel =
-        volBefore.closed && volBefore.volume != 0.0 ? (volAfter.volume - volBefore.volume) / volBefore.volume : 0.0;
-
-    log(LogLevel::Info, strFormat("S-ODT: algorithm %s, guard %s, %d iterations, max backtracks %d, "
-                                  "Laplacian fallback %s, selected only %s",
-                                  sodt::toString(p.algorithm), sodt::toString(p.guard), p.iterations,
-                                  p.maxBacktracks, yesNo(p.laplacianFallback), yesNo(p.selectedOnly)));
-    if (p.algorithm != sodt::Algorithm::Basic)
-      log(LogLevel::Info, strFormat("S-ODT: epsilon %g, eta %g", p.epsilon, p.eta));
-    if (p.algorithm == sodt::Algorithm::Denoise)
-      log(LogLevel::Info, strFormat("S-ODT: max normal step %g x mean edge length", p.maxNormalStepRel));
-    else if (p.guard != sodt::Guard::None && p.maxDeviationRel > 0)
-      log(LogLevel::Info, strFormat("S-ODT: deviation guard %g%% of the bounding-box diagonal",
-                                    sodt::paramSpec("maxDeviationRel").shownValue(p)));
-    log(LogLevel::Info, strFormat("S-ODT: min angle %.4f -> %.4f deg, max angle %.4f -> %.4f deg, "
-                                  "angles below 30 deg %.3f%% -> %.3f%%",
-                                  before.minDeg, after.minDeg, before.maxDeg, after.maxDeg,
-                                  100.0 * before.fracBelow30, 100.0 * after.fracBelow30));
-    if (volBefore.closed)
-      log(LogLevel::Info, strFormat("S-ODT: enclosed volume %.9g -> %.9g (relative change %+.2e)",
-                                    volBefore.volume, volAfter.volume, volRel));
-    else
-      log(LogLevel::Info, "S-ODT: the mesh is not closed; enclosed volume not reported");
-    log(LogLevel::Info, strFormat("S-ODT: vertex classes: %s%s", classCounts(classes).c_str(),
-                                  outputClass ? "; written to vertex quality and colour" : ""));
-    log(LogLevel::Info,
-        strFormat("S-ODT: %d sweeps over %d active vertices with %d thread%s: %lld moved, %lld backtracked, "
-                  "%lld Laplacian fallback, %lld rejected, %lld failed solves, %lld unchanged (%lld repeated "
-                  "their previous visit: nothing in their star had moved); fixed %d boundary and %d non-manifold "
-                  "vertices",
-                  s.iterations, s.activeVertices, s.threads, s.threads == 1 ? "" : "s", s.moved, s.backtracked,
-                  s.fallbackMoves, s.rejected, s.failedSolves, s.unchanged, s.skipped, s.fixedBoundary,
-                  s.fixedNonManifold));
-    if (s.reorientedFaces > 0)
-      log(LogLevel::Info, strFormat("S-ODT: turned %d faces over so that each part of the mesh has one winding",
-                                    s.reorientedFaces));
-    if (s.fixedNonManifold > 0)
-      log(LogLevel::Warning,
-          strFormat("S-ODT: %d vertices stayed fixed: their faces are non-manifold (an edge with three or more "
-                    "faces, a pinch) or cannot be given one winding",
-                    s.fixedNonManifold));
-    if (p.flips)
-      log(LogLevel::Info,
-          strFormat("S-ODT: edge flips: %lld (max dihedral %g deg); %s", s.flips, p.flipMaxDihedralDeg,
-                    facesChanged > 0
-                        ? strFormat("the connectivity changed: %lld faces have other vertices (same vertex "
-                                    "and face counts)", facesChanged).c_str()
-                        : "the returned state has the input's connectivity"));
-    else
-      log(LogLevel::Info, "S-ODT: edge flips: off");
-    std::string ending;
-    if (s.stoppedEarly)
-      ending = strFormat("; stopped early: the last sweep raised the min angle and its 1st percentile by at "
-                         "most the tolerance %g deg", p.toleranceDeg);
-    else if (p.toleranceDeg > 0)
-      ending = strFormat("; tolerance %g deg not reached", p.toleranceDeg);
-    log(LogLevel::Info, strFormat("S-ODT: returned the state after sweep %d of %d run (keep best %s)%s",
-                                  s.returnedSweep, s.iterations, yesNo(p.keepBest), ending.c_str()));
-    if (s.cancelled) log(LogLevel::Warning, strFormat("S-ODT: cancelled after %d sweeps", s.iterations));
-
-    Report r;
-    r["vertices"] = m.vn;
-    r["faces"] = m.fn;
-    r["min_angle_before"] = before.minDeg;
-    r["min_angle_after"] = after.minDeg;
-    r["max_angle_before"] = before.maxDeg;
-    r["max_angle_after"] = after.maxDeg;
-    r["frac_below_30_before"] = before.fracBelow30;
-    r["frac_below_30_after"] = after.fracBelow30;
-    r["closed"] = volBefore.closed;
-    if (volBefore.closed) {
-      r["volume_before"] = volBefore.volume;
-      r["volume_after"] = volAfter.volume;
-      r["volume_rel_change"] = volRel;
-    }
-    addClassCounts(r, classes);
-    r["fixed_boundary"] = s.fixedBoundary;
-    r["fixed_nonmanifold"] = s.fixedNonManifold;
-    r["active_vertices"] = s.activeVertices;
-    r["sweeps"] = s.iterations;
-    r["returned_sweep"] = s.returnedSweep;
-    r["stopped_early"] = s.stoppedEarly;
-    r["cancelled"] = s.cancelled;
-    r["moved"] = count(s.moved);
-    r["backtracked"] = count(s.backtracked);
-    r["fallback_moves"] = count(s.fallbackMoves);
-    r["rejected"] = count(s.rejected);
-    r["failed_solves"] = count(s.failedSolves);
-    r["unchanged"] = count(s.unchanged);
-    r["skipped_visits"] = count(s.skipped);
-    r["flips"] = count(s.flips);
-    r["reoriented_faces"] = s.reorientedFaces;
-    r["faces_changed"] = count(facesChanged);
-    r["threads"] = s.threads;
-    r["seconds"] = s.sweepSeconds;
-    return r;
+    run.after = sodt::computeAngleStats(m, s.threads);
+    if (run.volBefore.closed) run.volAfter = sodt::enclosedVolume(m, s.threads);
+    if (run.volBefore.closed && run.volBefore.volume != 0.0)
+      run.volRel = (run.volAfter.volume - run.volBefore.volume) / run.volBefore.volume;
+    logSmoothing(run, log);
+    return smoothingReport(m, run);
   } catch (...) {
     // The core throws before it moves anything; undo the selection change too.
     if (selectionConverted) {
@@ -403,6 +438,22 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
       m.svn = 0;
     }
     throw;
+  }
+}
+
+QString runFilter(int id, const QString& filterName, MeshModel* mm, const RichParameterList& par,
+                  vcg::CallBackPos* cb, const LogFn& log, Report& report) {
+  try {
+    if (mm == nullptr) throw std::invalid_argument("there is no current mesh.");
+    switch (id) {
+      case kSmooth: report = applySmoothing(*mm, par, cb, log); return QString();
+      case kClassify: report = applyClassify(*mm, par, log); return QString();
+    }
+    return "S-ODT: unknown filter '" + filterName + "'";
+  } catch (const std::exception& e) {
+    return failureMessage(id, e.what());
+  } catch (...) {
+    return failureMessage(id, nullptr);
   }
 }
 

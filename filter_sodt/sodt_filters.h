@@ -66,4 +66,12 @@ Report applyClassify(MeshModel& mm, const RichParameterList& par, const LogFn& l
 /// `why` is null): the one message both adapters show for a failed run.
 QString failureMessage(int id, const char* why);
 
+/// Runs filter `id` (applySmoothing or applyClassify) on `mm`, the current
+/// mesh or null, for both adapters: its report goes to `report`, and
+/// nothing escapes. \return empty on success, else the message for the user
+/// (failureMessage; `filterName` names an unknown id), after which the mesh
+/// is as the filter found it.
+QString runFilter(int id, const QString& filterName, MeshModel* mm, const RichParameterList& par,
+                  vcg::CallBackPos* cb, const LogFn& log, Report& report);
+
 }  // namespace sodt_plugin
