@@ -189,6 +189,37 @@ void saveClassMesh(sodt::PendingFile& f, MeshD& m, const sodt::Classification& c
 
 
 
+/// The repair's line: what it changed, and what it left below the target.
+void printRepairSummary(const sodt::SodtParams& p, const sodt::SodtStats& st) {
+  int why[4] = {0, 0, 0, 0};
+  for (const sodt::RemainingTriangle& t : st.belowTarget) ++why[static_cast<int>(t.why)];
+  std::printf("  repair         %d vertices added, %d removed (%d splits, %d collapses, %d flips, %lld moves); "
+              "%zu triangles below %s deg",
+              st.verticesAdded, st.verticesRemoved, st.repairSplits, st.repairCollapses, st.repairFlips,
+              st.repairMoves, st.belowTarget.size(), numberText(p.repairAngleDeg).c_str());
+  if (!st.belowTarget.empty()) {
+    std::printf(" (");
+    const char* sep = "";
+    for (int k = 0; k < 4; ++k)
+      if (why[k] > 0) {
+        std::printf("%s%d %s", sep, why[k], sodt::toString(static_cast<sodt::RepairReason>(k)));
+        sep = ", ";
+      }
+    std::printf("; listed in the report)");
+  }
+  std::printf("\n");
+}
+
+/// The report's list of the triangles the repair left below its target.
+Json remainingTriangles(const sodt::SodtStats& st) {
+  Json list = Json::array();
+  for (const sodt::RemainingTriangle& t : st.belowTarget)
+    list.push_back({{"centroid", {number(t.centroid[0]), number(t.centroid[1]), number(t.centroid[2])}},
+                    {"min_angle_deg", number(t.minAngleDeg)},
+                    {"reason", sodt::toString(t.why)}});
+  return list;
+}
+
 void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResult& r) {
   const Measures& before = r.before;
   const Measures& after = r.after;
@@ -225,8 +256,9 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
   if (inverted >= 0)
     std::printf("  inverted       %lld faces turned by more than 90 deg\n", inverted);
   else
-    std::printf("  inverted       n/a (%s)\n",
-                st.flips > 0 ? "connectivity changed by flips" : "the faces differ from the input's");
+    std::printf("  inverted       n/a (%s)\n", st.verticesAdded + st.verticesRemoved > 0 ? "vertices changed by repair"
+                                              : st.flips > 0                           ? "connectivity changed by flips"
+                                                                                       : "the faces differ from the input's");
   std::printf("  vertex visits  moved %lld, backtracked %lld, Laplacian fallback %lld, rejected %lld, failed %lld, "
               "unchanged %lld; %lld repeated their previous visit (nothing in their star had moved)\n",
               st.moved, st.backtracked, st.fallbackMoves, st.rejected, st.failedSolves, st.unchanged, st.skipped);
@@ -255,6 +287,7 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
                 inverted >= 0 && st.flips > 0 ? "; the returned state has the input's connectivity" : "");
   else
     std::printf("  flips          off\n");
+  if (o.params.repair) printRepairSummary(o.params, st);
   std::printf("  returned       the state after sweep %d of %d (keep best %s)", st.returnedSweep, st.iterations,
               o.params.keepBest ? "on" : "off");
   if (st.stoppedEarly)
@@ -283,6 +316,13 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   j["stopped_early"] = st.stoppedEarly;
   j["flips"] = st.flips;
   j["reoriented_faces"] = st.reorientedFaces;
+  j["vertices_added"] = st.verticesAdded;
+  j["vertices_removed"] = st.verticesRemoved;
+  j["repair_splits"] = st.repairSplits;
+  j["repair_collapses"] = st.repairCollapses;
+  j["repair_flips"] = st.repairFlips;
+  j["repair_moves"] = st.repairMoves;
+  j["below_repair_angle"] = remainingTriangles(st);
   j["seconds"] = number(r.seconds);
   j["threads"] = st.threads;
   j["min_angle_before"] = number(before.angles.minDeg);

@@ -161,7 +161,7 @@ int runSmooth(const SmoothOptions& o) {
   r.before = measure(m, sodt::resolveThreads(o.params.threads));
   // Not a copy of the mesh: with the smoother's working memory that would
   // more than double the peak on a large mesh.
-  InputGeometry input = keepInput(m, o.params.flips);
+  InputGeometry input = keepInput(m, o.params.flips || o.params.repair);
   gStatus.end(false);
 
   progressCallback(0, ("S-ODT sweep 0/" + std::to_string(o.params.iterations)).c_str());
@@ -181,7 +181,9 @@ int runSmooth(const SmoothOptions& o) {
       r.distance = distanceTo(m, ref, st.threads);
     else
       r.distance.measured = false;
-    r.inverted = sodt::countInvertedFaces(m, ref, st.threads);
+    // Face by face against the input: only while the faces correspond.
+    const bool sameFaces = st.verticesAdded == 0 && st.verticesRemoved == 0;
+    r.inverted = sameFaces ? sodt::countInvertedFaces(m, ref, st.threads) : -1;
   }
   gStatus.end(false);
 

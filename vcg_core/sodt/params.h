@@ -118,10 +118,47 @@ struct SodtParams {
   /// neighbours share a colour), so the result is bit-identical for every
   /// thread count.
   int threads = 0;
+  /// Local repair after the sweeps (see repair.h): where a triangle's
+  /// smallest angle is still below repairAngleDeg, collapse, flip and split
+  /// edges and relax the changed neighbourhood. Changes the vertex set, so
+  /// it is off by default.
+  bool repair = false;
+  /// The smallest angle the repair aims for, in degrees.
+  double repairAngleDeg = 25.0;
+  /// Edges whose faces' normals differ by more than this (degrees) are
+  /// features: the repair never flips or collapses them and splits them
+  /// along themselves, so they stay chains of edges.
+  double featureAngleDeg = 30.0;
 
   /// Throws InvalidInput naming the offending field when a value lies
   /// outside its range in paramTable().
   void validate() const;
+};
+
+/// Why the repair left a triangle below its target (see repair.h).
+enum class RepairReason : int {
+  Pinned = 0,       ///< its edges are features or end at fixed vertices, or no change improves it
+  Bound = 1,        ///< every change that would improve it leaves the deviation bound
+  NonManifold = 2,  ///< a change would make the mesh non-manifold, or it lies at a border
+  Budget = 3,       ///< the rounds or the budget of changed vertices ran out first
+};
+
+inline const char* toString(RepairReason r) {
+  switch (r) {
+    case RepairReason::Pinned: return "pinned";
+    case RepairReason::Bound: return "bound";
+    case RepairReason::NonManifold: return "non-manifold";
+    case RepairReason::Budget: return "budget";
+  }
+  return "?";
+}
+
+/// A triangle the repair left below its target: where it is (its
+/// centroid), its smallest angle and why.
+struct RemainingTriangle {
+  double centroid[3];
+  double minAngleDeg;
+  RepairReason why;
 };
 
 /// Counters of one run; every vertex visit ends in exactly one of
@@ -163,6 +200,13 @@ struct SodtStats {
   /// measurements and progress callbacks between them), without the set-up
   /// before them and the write-back after.
   double sweepSeconds = 0;
+  /// The repair's changes (SodtParams::repair): edges split, collapsed and
+  /// flipped, vertices added and removed, S-ODT moves of the changed
+  /// neighbourhoods, and the triangles left below the target.
+  int repairSplits = 0, repairCollapses = 0, repairFlips = 0;
+  int verticesAdded = 0, verticesRemoved = 0;
+  long long repairMoves = 0;
+  std::vector<RemainingTriangle> belowTarget;
 };
 
 inline const char* toString(Guard g) {
@@ -397,12 +441,37 @@ struct ParamSpec {
   static E fromNumber(double v, E*) { return static_cast<E>(static_cast<int>(v)); }
 };
 
+namespace detail {
+
+/// The local repair's entries of paramTable().
+inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& feature) {
+  repair.bind("repair", &SodtParams::repair).keys("repair", "repair").cli("--repair", nullptr)
+      .reportAs("repair_enabled").dialog("Local repair")
+      .describe("after the sweeps, fix the triangles still below the repair angle with the fewest local "
+                "changes: collapse the short edge of a needle, flip or split the long edge of a cap or "
+                "sliver, and relax the changed neighbourhood with S-ODT (adds and removes vertices)",
+                "Feature edges (see feature angle) are never flipped or collapsed and are split along "
+                "themselves, corners and border vertices stay, the mesh stays manifold and oriented, and "
+                "every change keeps the surface within the deviation bound of the input both ways. The "
+                "report lists the triangles left below the target and why.");
+  angle.bind("repairAngleDeg", &SodtParams::repairAngleDeg).keys("repairAngle", "repair_angle")
+      .cli("--repair-angle", "DEG").dialog("Repair target angle (deg)").shownIn("degrees").range(0, 50)
+      .describe("with repair: the smallest triangle angle the repair works towards");
+  feature.bind("featureAngleDeg", &SodtParams::featureAngleDeg).keys("featureAngle", "feature_angle")
+      .cli("--feature-angle", "DEG").dialog("Feature angle (deg)").shownIn("degrees").range(0, 180)
+      .describe("with repair: edges whose two faces' normals differ by more than this are features, kept as "
+                "chains of edges",
+                "With feature or denoise, edges along a classified crease are features too.");
+}
+
+}  // namespace detail
+
 /// Every user-facing parameter of a smoothing run, in the order of the
 /// plugin's dialog (and of `sodt smooth --help`).
 inline const std::vector<ParamSpec>& paramTable() {
   static const std::vector<ParamSpec> table = [] {
     const unsigned feature = algorithmBit(Algorithm::Feature), denoise = algorithmBit(Algorithm::Denoise);
-    std::vector<ParamSpec> t(15);
+    std::vector<ParamSpec> t(18);
     t[0].bind("algorithm", &SodtParams::algorithm).keys("algorithm", "algorithm").cli("--algorithm", "NAME")
         .dialog("Algorithm")
         .describe("vertex update rule")
@@ -512,6 +581,7 @@ inline const std::vector<ParamSpec>& paramTable() {
         .cli("--selected-only", nullptr).dialog("Affect only selection").onWithSelectionInPlugin()
         .describe("move only the selected vertices (the others stay fixed but still shape their "
                   "neighbours' one-rings)");
+    detail::repairParams(t[15], t[16], t[17]);
     return t;
   }();
   return table;

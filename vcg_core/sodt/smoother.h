@@ -15,6 +15,7 @@
 #include "flips.h"
 #include "guarded_move.h"
 #include "params.h"
+#include "repair.h"
 #include "run_setup.h"
 #include "sweep_quality.h"
 #include "sweeper.h"
@@ -94,6 +95,8 @@ struct SodtSmoother {
             : std::vector<FittedFrame>();
     DeviationInput input;
     input.prepare(p, w.pos, w.topo, w.faces);
+    RepairInput repairInput;
+    repairInput.prepare(p, w.pos, w.faces, w.topo);
     VisitContext ctx{MoveInputs{p, cls, fit, meanEdge}, input.get(), tuning.simd && lanes::available(),
                      Vec3(0, 0, 0), Vec3(0, 0, 0)};
     reachBox(p, w.pos, w.topo, meanEdge, ctx.boxLo, ctx.boxHi);
@@ -121,9 +124,13 @@ struct SodtSmoother {
     stats.returnedSweep = best.restore(stats.iterations, w.pos, w.faces);
     if (stats.returnedSweep != stats.iterations && p.flips) w.topo = buildRingTopology(w.faces, w.deleted);
 
+    Classification outCls = cls;
+    std::vector<int> moved = active;
+    if (p.repair) repairWorkingMesh(m, p, w, repairInput, outCls, moved, stats);
+
     // The mesh is written only here, positions and faces together.
-    writeBack(m, w, active, stats.flips > 0 || stats.reorientedFaces > 0, threads);
-    if (classes) *classes = inMeshOrder(cls, w.order);
+    writeBack(m, w, moved, stats.flips > 0 || stats.reorientedFaces > 0 || p.repair, threads);
+    if (classes) *classes = inMeshOrder(outCls, w.order);
     return stats;
   }
 

@@ -10,6 +10,7 @@
 #include "params.h"
 #include "topology.h"
 
+#include <vcg/complex/allocate.h>
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/topology.h>
 #include <vcg/complex/complex.h>
@@ -104,6 +105,38 @@ void writeBack(MeshType& m, const WorkingMesh& w, const std::vector<int>& moved,
     m.vert[w.order[i]].P() = CoordType(ScalarType(w.pos[i][0]), ScalarType(w.pos[i][1]), ScalarType(w.pos[i][2]));
   vcg::tri::UpdateBounding<MeshType>::Box(m);
   writeNormals(m, w.faces, w.topo, w.pos, w.order, w.faceOrder, threads);
+}
+
+/// Makes room in m for what a repair added to w (vertices and faces past
+/// nv0 and liveBefore.size(), appended to m) and deletes from m what it
+/// removed (vertices flagged deleted, faces no longer live of those live
+/// before, liveBefore, or added);
+/// writeBack then writes them. New vertices are selected when selected is
+/// set (a run on the selection).
+template <class MeshType>
+void resizeForRepair(MeshType& m, WorkingMesh& w, std::size_t nv0, const std::vector<char>& liveBefore,
+                     bool selected) {
+  using Alloc = vcg::tri::Allocator<MeshType>;
+  const std::size_t nf0 = liveBefore.size();
+  const std::size_t addV = w.pos.size() - nv0, addF = w.faces.tri.size() - nf0;
+  if (addV > 0) {
+    const std::size_t first = m.vert.size();
+    Alloc::AddVertices(m, addV);
+    for (std::size_t k = 0; k < addV; ++k) {
+      w.order.push_back(static_cast<int>(first + k));
+      if (selected) m.vert[first + k].SetS();
+    }
+  }
+  if (addF > 0) {
+    const std::size_t first = m.face.size();
+    Alloc::AddFaces(m, addF);
+    for (std::size_t k = 0; k < addF; ++k) w.faceOrder.push_back(static_cast<int>(first + k));
+  }
+  for (std::size_t i = 0; i < w.pos.size(); ++i)  // added vertices a later collapse removed too
+    if (w.deleted[i] && !m.vert[w.order[i]].IsD()) Alloc::DeleteVertex(m, m.vert[w.order[i]]);
+  for (std::size_t f = 0; f < w.faces.tri.size(); ++f)  // added faces a later collapse removed too
+    if ((f >= nf0 || liveBefore[f]) && !w.faces.live[f]) Alloc::DeleteFace(m, m.face[w.faceOrder[f]]);
+  w.selected.resize(w.pos.size(), selected ? 1 : 0);
 }
 
 /// cls (in working order) in the mesh's vertex order.

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Local repair (SodtParams::repair, repair.h): the mesh stays closed,
+// manifold and oriented, feature edges stay chains of edges, the smallest
+// angle rises, and nothing is done where nothing is needed.
+#include "test_mesh.h"
+
+#include <sodt/repair.h>
+#include <sodt_io/metrics.h>
+#include <sodt_io/prebuilt.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <array>
+#include <map>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using sodt::Vec3;
+
+/// Every edge of the live faces: per directed edge, how often it occurs.
+std::map<std::pair<int, int>, int> directedEdges(const sodt::MeshD& m) {
+  std::map<std::pair<int, int>, int> e;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    for (int j = 0; j < 3; ++j) ++e[{int(f.cV(j) - &m.vert[0]), int(f.cV((j + 1) % 3) - &m.vert[0])}];
+  }
+  return e;
+}
+
+double minAngleDeg(const sodt::MeshD& m) {
+  double a = 180;
+  for (const auto& f : m.face)
+    if (!f.IsD())
+      a = std::min(a, sodt::triangleMinAngle(Vec3::Construct(f.cP(0)), Vec3::Construct(f.cP(1)),
+                                             Vec3::Construct(f.cP(2))) * 180 / sodt::kPi);
+  return a;
+}
+
+/// A closed cube [-1,1]^3 whose edges are split into n segments and whose
+/// faces are fans from their centres, as CAD exports triangulate: 4n thin
+/// triangles per face around a vertex of valence 4n, which no vertex move
+/// can fix; 12 sharp edges of 90 degrees.
+void fanCube(sodt::MeshD& m, int n) {
+  m.Clear();
+  std::map<std::array<int, 3>, int> index;  // grid point (0..2n per axis) -> vertex
+  const auto vertex = [&](std::array<int, 3> g) {
+    const auto it = index.find(g);
+    if (it != index.end()) return it->second;
+    auto vi = vcg::tri::Allocator<sodt::MeshD>::AddVertices(m, 1);
+    vi->P() = vcg::Point3d(-1 + g[0] / double(n), -1 + g[1] / double(n), -1 + g[2] / double(n));
+    return index[g] = int(m.vert.size()) - 1;
+  };
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const int u = (a + 1) % 3, v = (a + 2) % 3;
+      std::vector<int> loop;  // counter-clockwise in (u, v): outward on the high side
+      const auto at = [&](int i, int j) {
+        std::array<int, 3> g{};
+        g[a] = side * 2 * n, g[u] = i, g[v] = j;
+        return vertex(g);
+      };
+      for (int k = 0; k < 2 * n; k += 2) loop.push_back(at(k, 0));
+      for (int k = 0; k < 2 * n; k += 2) loop.push_back(at(2 * n, k));
+      for (int k = 2 * n; k > 0; k -= 2) loop.push_back(at(k, 2 * n));
+      for (int k = 2 * n; k > 0; k -= 2) loop.push_back(at(0, k));
+      const int centre = at(n, n);
+      for (std::size_t k = 0; k < loop.size(); ++k) {
+        const int p = loop[k], q = loop[(k + 1) % loop.size()];
+        if (side == 1)
+          sodt_test::addFace(m, centre, p, q);
+        else
+          sodt_test::addFace(m, centre, q, p);
+      }
+    }
+}
+
+void slicedCube(sodt::MeshD& m) { fanCube(m, 6); }
+
+sodt::SodtParams repairParams(bool repair) {
+  sodt::SodtParams p;
+  p.algorithm = sodt::Algorithm::Feature;
+  p.flips = true;
+  p.repair = repair;
+  p.repairAngleDeg = 30;  // above what flips alone reach on slicedCube (25 degrees)
+  p.threads = 1;
+  return p;
+}
+
+/// The point lies on one of the cube's 12 edge lines (two coordinates at +-1).
+bool onCubeEdge(const vcg::Point3d& p) {
+  int n = 0;
+  for (int k = 0; k < 3; ++k) n += std::abs(std::abs(p[k]) - 1.0) < 1e-9;
+  return n >= 2;
+}
+
+TEST(Repair, KeepsTheMeshClosedManifoldAndOrientedAndRaisesTheMinAngle) {
+  sodt::MeshD swept, repaired;
+  slicedCube(swept);
+  slicedCube(repaired);
+  sodt::SodtSmoother<sodt::MeshD>::Apply(swept, repairParams(false));
+  const sodt::SodtStats st = sodt::SodtSmoother<sodt::MeshD>::Apply(repaired, repairParams(true));
+  EXPECT_GT(st.verticesAdded + st.verticesRemoved + st.repairFlips, 0);
+  EXPECT_EQ(repaired.vn, swept.vn + st.verticesAdded - st.verticesRemoved);
+  EXPECT_LT(minAngleDeg(swept), 26.0);
+  EXPECT_GE(minAngleDeg(repaired), 30.0);
+  // Closed, manifold, one winding: every directed edge once, with its twin.
+  const auto edges = directedEdges(repaired);
+  for (const auto& kv : edges) {
+    EXPECT_EQ(kv.second, 1);
+    const auto twin = edges.find({kv.first.second, kv.first.first});
+    ASSERT_NE(twin, edges.end());
+    EXPECT_EQ(twin->second, 1);
+  }
+  // A sphere still: V - E + F = 2, and no live vertex without a face.
+  std::vector<char> used(repaired.vert.size(), 0);
+  for (const auto& f : repaired.face)
+    if (!f.IsD())
+      for (int j = 0; j < 3; ++j) used[f.cV(j) - &repaired.vert[0]] = 1;
+  for (std::size_t i = 0; i < repaired.vert.size(); ++i) EXPECT_EQ(used[i] != 0, !repaired.vert[i].IsD());
+  EXPECT_EQ(repaired.vn - int(edges.size() / 2) + repaired.fn, 2);
+  // What the repair reports below its target is what is there.
+  int below = 0;
+  for (const auto& f : repaired.face)
+    if (!f.IsD() && sodt::triangleMinAngle(Vec3::Construct(f.cP(0)), Vec3::Construct(f.cP(1)),
+                                           Vec3::Construct(f.cP(2))) * 180 / sodt::kPi < 30)
+      ++below;
+  EXPECT_EQ(static_cast<std::size_t>(below), st.belowTarget.size());
+}
+
+TEST(Repair, FeatureEdgesStayChainsOfEdges) {
+  sodt::MeshD m;
+  slicedCube(m);
+  sodt::SodtParams p = repairParams(true);
+  p.maxDeviationRel = 0;  // the feature rules alone, not the bound, keep the edges
+  p.featureAngleDeg = 60;
+  sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  // Every sharp edge lies on a cube edge, and the edges along the cube's
+  // edges add up to their length: none was flipped, collapsed or cut.
+  double along = 0;
+  for (const auto& kv : sodt_test::dihedralAngles(m)) {
+    const vcg::Point3d a = m.vert[kv.first.first].cP(), b = m.vert[kv.first.second].cP();
+    const bool onEdge = onCubeEdge(a) && onCubeEdge(b) && onCubeEdge((a + b) * 0.5);
+    if (kv.second > 30) {
+      EXPECT_TRUE(onEdge) << kv.second << " at " << kv.first.first << " " << kv.first.second;
+    }
+    if (onEdge) {
+      EXPECT_GT(kv.second, 80);
+      along += (a - b).Norm();
+    }
+  }
+  EXPECT_NEAR(along, 12 * 2.0, 1e-9);
+}
+
+TEST(Repair, NeverLeavesAWorseMeshThanTheSweeps) {
+  // A mesh with no slivers: nothing to do, nothing done.
+  sodt::MeshD m;
+  sodt_test::makeCube(m, 4);
+  sodt::SodtParams p = repairParams(true);
+  p.repairAngleDeg = 20;
+  const sodt::SodtStats st = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  EXPECT_EQ(st.verticesAdded + st.verticesRemoved + st.repairFlips, 0);
+  EXPECT_TRUE(st.belowTarget.empty());
+}
+
+}  // namespace

@@ -1,0 +1,687 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Local repair after the sweeps (opt-in, SodtParams::repair): where a
+// triangle's smallest angle is still below a target, collapse the short edge
+// of a needle, flip or split the long edge of a cap or of a sliver, and relax
+// the changed neighbourhood with S-ODT under the guards, until no triangle
+// is below the target or nothing more can be done. Feature edges (sharper
+// than the feature angle, or along a crease) are never flipped or collapsed,
+// corners never move, and every change keeps the surface within the
+// deviation bound of the input both ways (input near the change -> output,
+// output -> input).
+#pragma once
+
+#include "classify.h"
+#include "geometry.h"
+#include "input_grid.h"
+#include "local_solve.h"
+#include "params.h"
+#include "run_setup.h"
+#include "topology.h"
+#include "working_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <unordered_set>
+#include <vector>
+
+namespace sodt {
+
+/// What the repair may do.
+struct RepairSettings {
+  double targetRad = 25 * kPi / 180;   ///< smallest angle to reach
+  double featureRad = 30 * kPi / 180;  ///< edges whose faces turn more are features
+  double flipMaxRad = 20 * kPi / 180;  ///< flips only across flatter edges
+  double bound = 0;                    ///< distance bound, both ways (0: none)
+  int maxRounds = 30;
+  long long maxChanges = 0;  ///< vertices added plus removed, at most
+};
+
+/// Counts of one repair.
+struct RepairResult {
+  int splits = 0, collapses = 0, flips = 0;
+  int added = 0, removed = 0;
+  long long relaxMoves = 0;
+  std::vector<RemainingTriangle> remaining;
+};
+
+/// The repair on the working arrays: pos and deleted grow by the added
+/// vertices, faces by the added faces; removed vertices are flagged
+/// deleted and removed faces not live. Vertices with movable[v] unset
+/// never move nor go; newCrease receives, per added vertex, whether it lies
+/// on a feature edge.
+class LocalRepair {
+ public:
+  enum class Role : unsigned char { Free, Crease, Fixed };
+
+  LocalRepair(std::vector<Vec3>& pos, FaceList& faces, std::vector<char>& deleted, const InputGrid* input,
+              const RepairSettings& s)
+      : pos_(pos), faces_(faces), deleted_(deleted), input_(input), s_(s) {}
+
+  /// Marks the feature edges and the roles. creaseDir (may be null) adds
+  /// the edges that follow a classified crease.
+  void setUp(const std::vector<char>& movable, const std::vector<VertexClass>* cls,
+             const std::vector<Vec3>* creaseDir);
+
+  RepairResult run();
+
+  const std::vector<char>& newCrease() const { return newCrease_; }
+
+ private:
+  enum Verdict { Done = 0, NoGain, Feature, Topology, OverBound };
+
+  static std::uint64_t key(int a, int b) {
+    if (a > b) std::swap(a, b);
+    return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+  }
+  bool isFeature(int a, int b) const { return feature_.count(key(a, b)) > 0; }
+  int third(int f, int a, int b) const {
+    for (int v : faces_.tri[f])
+      if (v != a && v != b) return v;
+    return -1;
+  }
+  /// Live faces with both a and b.
+  int edgeFaces(int a, int b, int out[2]) const;
+  /// f1 holds a -> b, f2 holds b -> a; false unless the edge has exactly those two.
+  bool interiorEdge(int a, int b, int& f1, int& f2) const;
+  bool hasEdge(int a, int b) const {
+    int dummy[2];
+    return edgeFaces(a, b, dummy) > 0;
+  }
+  double faceMinAngle(int f) const {
+    const auto& t = faces_.tri[f];
+    return triangleMinAngle(pos_[t[0]], pos_[t[1]], pos_[t[2]]);
+  }
+  /// The sample points of the triangles (centroids and edge midpoints) lie
+  /// within the bound of the input.
+  bool nearInput(const std::vector<std::array<Vec3, 3>>& tris) const;
+  /// q lies within the bound of one of tris: the input point q is not cut off.
+  bool covered(const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris) const;
+  void removeFromVf(int v, int f) {
+    auto& l = vf_[v];
+    l.erase(std::remove(l.begin(), l.end(), f), l.end());
+  }
+
+  Verdict tryFlip(int a, int b);
+  Verdict tryCollapse(int a, int b);
+  Verdict trySplit(int a, int b, double at = 0.5);
+  bool fixFace(int f, RepairReason& why);
+  void flipAround(const std::vector<int>& vertices);
+  bool relax(int v);
+  bool orderedRing(int v, std::vector<int>& ring) const;
+  struct Snapshot;
+  void score(double& minAngle, std::size_t& below) const;
+  void save(Snapshot& s) const;
+  void restore(const Snapshot& s);
+  bool round(std::vector<RepairReason>& why, bool& budgetOut);
+
+  std::vector<Vec3>& pos_;
+  FaceList& faces_;
+  std::vector<char>& deleted_;
+  const InputGrid* input_;
+  RepairSettings s_;
+  std::vector<Role> role_;
+  std::vector<std::vector<int>> vf_;
+  std::unordered_set<std::uint64_t> feature_;
+  std::vector<char> newCrease_;
+  std::vector<int> touched_;
+  RepairResult r_;
+};
+
+inline int LocalRepair::edgeFaces(int a, int b, int out[2]) const {
+  int n = 0;
+  for (int f : vf_[a]) {
+    const auto& t = faces_.tri[f];
+    if (t[0] == b || t[1] == b || t[2] == b) {
+      if (n < 2) out[n] = f;
+      ++n;
+    }
+  }
+  return n;
+}
+
+inline bool LocalRepair::interiorEdge(int a, int b, int& f1, int& f2) const {
+  int fs[2];
+  if (edgeFaces(a, b, fs) != 2 || !faces_.flippable[fs[0]] || !faces_.flippable[fs[1]]) return false;
+  const auto follows = [this](int f, int x, int y) {
+    const auto& t = faces_.tri[f];
+    for (int j = 0; j < 3; ++j)
+      if (t[j] == x && t[(j + 1) % 3] == y) return true;
+    return false;
+  };
+  if (follows(fs[0], a, b) && follows(fs[1], b, a)) {
+    f1 = fs[0], f2 = fs[1];
+  } else if (follows(fs[1], a, b) && follows(fs[0], b, a)) {
+    f1 = fs[1], f2 = fs[0];
+  } else {
+    return false;  // inconsistent winding
+  }
+  return true;
+}
+
+inline void LocalRepair::setUp(const std::vector<char>& movable, const std::vector<VertexClass>* cls,
+                               const std::vector<Vec3>* creaseDir) {
+  const int nv = static_cast<int>(pos_.size());
+  vf_.assign(nv, {});
+  for (std::size_t f = 0; f < faces_.tri.size(); ++f)
+    if (faces_.live[f])
+      for (int v : faces_.tri[f]) vf_[v].push_back(static_cast<int>(f));
+  role_.assign(nv, Role::Free);
+  for (int v = 0; v < nv; ++v)
+    if (!movable[v] || deleted_[v]) role_[v] = Role::Fixed;
+  const double cosFeature = std::cos(s_.featureRad);
+  const double cosAlong = std::cos(30 * kPi / 180);
+  const auto featureClass = [&](int v) {
+    return cls && ((*cls)[v] == VertexClass::Crease || (*cls)[v] == VertexClass::Corner);
+  };
+  // Follows the crease of every crease end (a corner-corner edge counts).
+  const auto alongCrease = [&](int a, int b) {
+    if (!featureClass(a) || !featureClass(b) || !creaseDir) return false;
+    const Vec3 e = pos_[b] - pos_[a];
+    const double len = e.Norm();
+    if (!(len > 0)) return false;
+    for (int v : {a, b})
+      if ((*cls)[v] == VertexClass::Crease && std::abs(e * (*creaseDir)[v]) < cosAlong * len) return false;
+    return true;
+  };
+  for (int a = 0; a < nv; ++a) {
+    for (int f : vf_[a]) {
+      for (int b : faces_.tri[f]) {
+        if (b <= a) continue;
+        int f1, f2;
+        bool feat = !interiorEdge(a, b, f1, f2);  // border, non-manifold
+        if (!feat) {
+          const auto &t1 = faces_.tri[f1], &t2 = faces_.tri[f2];
+          const Vec3 n1 = doubleAreaVector(pos_[t1[0]], pos_[t1[1]], pos_[t1[2]]);
+          const Vec3 n2 = doubleAreaVector(pos_[t2[0]], pos_[t2[1]], pos_[t2[2]]);
+          const double l = n1.Norm() * n2.Norm();
+          feat = !(l > 0) || n1 * n2 < cosFeature * l || alongCrease(a, b);
+        }
+        if (feat) feature_.insert(key(a, b));
+      }
+    }
+  }
+  std::vector<int> count(nv, 0);
+  for (std::uint64_t k : feature_) ++count[int(k >> 32)], ++count[int(k & 0xFFFFFFFF)];
+  for (int v = 0; v < nv; ++v)
+    if (role_[v] == Role::Free && count[v] > 0) role_[v] = count[v] == 2 ? Role::Crease : Role::Fixed;
+}
+
+inline bool LocalRepair::nearInput(const std::vector<std::array<Vec3, 3>>& tris) const {
+  if (!input_ || !(s_.bound > 0)) return true;
+  for (const auto& t : tris) {
+    const Vec3 pts[4] = {(t[0] + t[1] + t[2]) / 3.0, (t[0] + t[1]) * 0.5, (t[1] + t[2]) * 0.5,
+                         (t[2] + t[0]) * 0.5};
+    for (const Vec3& q : pts)
+      if (!input_->within(q, s_.bound)) return false;
+  }
+  return true;
+}
+
+inline bool LocalRepair::covered(const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris) const {
+  if (!(s_.bound > 0)) return true;
+  for (const auto& t : tris)
+    if (pointTriangleDistance2(q, t[0], t[1], t[2]) <= s_.bound * s_.bound) return true;
+  return false;
+}
+
+/// Edge a-b of faces (a, b, c) and (b, a, d) becomes c-d, faces (a, d, c)
+/// and (d, b, c), under flipPass's rules, the feature edges of this repair
+/// and the two-sided bound (the old edge's midpoint stays covered).
+inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
+  if (isFeature(a, b)) return Feature;
+  int f1, f2;
+  if (!interiorEdge(a, b, f1, f2)) return Topology;
+  const int c = third(f1, a, b), d = third(f2, a, b);
+  if (c < 0 || d < 0 || c == d || hasEdge(c, d)) return Topology;
+  const Vec3 &pa = pos_[a], &pb = pos_[b], &pc = pos_[c], &pd = pos_[d];
+  const Vec3 n1 = doubleAreaVector(pa, pb, pc), n2 = doubleAreaVector(pb, pa, pd);
+  const double l1 = n1.Norm(), l2 = n2.Norm();
+  if (!(l1 > 0) || !(l2 > 0) || !(n1 * n2 > std::cos(s_.flipMaxRad) * l1 * l2)) return Feature;
+  const Vec3 m1 = doubleAreaVector(pa, pd, pc), m2 = doubleAreaVector(pd, pb, pc);
+  const Vec3 pair = n1 / l1 + n2 / l2;
+  if (!(m1 * pair > 0) || !(m2 * pair > 0)) return NoGain;
+  const double before = std::min(triangleMinAngle(pa, pb, pc), triangleMinAngle(pb, pa, pd));
+  const double after = std::min(triangleMinAngle(pa, pd, pc), triangleMinAngle(pd, pb, pc));
+  if (!(after > before + 1e-9)) return NoGain;
+  const std::vector<std::array<Vec3, 3>> made = {{pa, pd, pc}, {pd, pb, pc}};
+  if (!nearInput(made) || !covered((pa + pb) * 0.5, made)) return OverBound;
+  faces_.tri[f1] = {a, d, c};
+  faces_.tri[f2] = {d, b, c};
+  removeFromVf(a, f2);
+  removeFromVf(b, f1);
+  vf_[c].push_back(f2);
+  vf_[d].push_back(f1);
+  ++r_.flips;
+  touched_.insert(touched_.end(), {a, b, c, d});
+  return Done;
+}
+
+/// Removes a by moving it onto b (a half-edge collapse), when a is free,
+/// a-b is an interior edge whose ends share no neighbour but the two
+/// opposite vertices (the link condition: the mesh stays manifold), no
+/// face folds or turns by more than 45 degrees, the smallest angle around
+/// grows, and the new faces stay near the input while covering a.
+inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
+  if (role_[a] != Role::Free) return Feature;
+  int f1, f2;
+  if (!interiorEdge(a, b, f1, f2)) return Topology;
+  const int c = third(f1, a, b), d = third(f2, a, b);
+  if (vf_[c].size() <= 3 || vf_[d].size() <= 3 || vf_[a].size() + vf_[b].size() < 4 + 3) return Topology;
+  std::unordered_set<int> around;
+  for (int f : vf_[b])
+    for (int v : faces_.tri[f]) around.insert(v);
+  for (int f : vf_[a])
+    for (int v : faces_.tri[f])
+      if (v != a && v != b && v != c && v != d && around.count(v)) return Topology;
+  double before = kPi, after = kPi;
+  std::vector<std::array<Vec3, 3>> made;
+  const double cosTurn = std::cos(45 * kPi / 180);
+  for (int f : vf_[a]) {
+    before = std::min(before, faceMinAngle(f));
+    if (f == f1 || f == f2) continue;
+    std::array<Vec3, 3> t, u;
+    for (int j = 0; j < 3; ++j) {
+      const int v = faces_.tri[f][j];
+      t[j] = pos_[v];
+      u[j] = v == a ? pos_[b] : pos_[v];
+    }
+    const Vec3 n0 = doubleAreaVector(t[0], t[1], t[2]), n1 = doubleAreaVector(u[0], u[1], u[2]);
+    const double longest = std::max({(u[1] - u[0]).SquaredNorm(), (u[2] - u[1]).SquaredNorm(),
+                                     (u[0] - u[2]).SquaredNorm()});
+    if (!(n1.Norm() > kCollapse * longest) || !(n0 * n1 > cosTurn * n0.Norm() * n1.Norm())) return NoGain;
+    after = std::min(after, triangleMinAngle(u[0], u[1], u[2]));
+    made.push_back(u);
+  }
+  if (!(after > before)) return NoGain;
+  if (!nearInput(made) || !covered(pos_[a], made)) return OverBound;
+  for (int f : vf_[a]) {
+    if (f == f1 || f == f2) continue;
+    for (int& v : faces_.tri[f])
+      if (v == a) v = b;
+    vf_[b].push_back(f);
+  }
+  for (int f : {f1, f2}) {
+    faces_.live[f] = 0;
+    for (int v : faces_.tri[f])
+      if (v != a) removeFromVf(v, f);
+  }
+  vf_[a].clear();
+  deleted_[a] = 1;
+  role_[a] = Role::Fixed;
+  ++r_.collapses;
+  ++r_.removed;
+  touched_.insert(touched_.end(), {b, c, d});
+  return Done;
+}
+
+/// Splits interior edge a-b of faces (a, b, c) and (b, a, d) at a new
+/// vertex m (the last vertex), at a + at (b - a): on the edge for a
+/// feature edge (it stays a chain of feature edges), else at the input
+/// point closest to it.
+inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
+  int f1, f2;
+  if (!interiorEdge(a, b, f1, f2)) return Topology;
+  const int c = third(f1, a, b), d = third(f2, a, b);
+  const bool feat = isFeature(a, b);
+  const Vec3 mid = pos_[a] + (pos_[b] - pos_[a]) * at;
+  Vec3 p = mid;
+  if (!feat && input_ && !input_->closest(mid, 0.5 * (pos_[b] - pos_[a]).Norm(), p)) p = mid;
+  const std::vector<std::array<Vec3, 3>> made = {
+      {pos_[a], p, pos_[c]}, {p, pos_[b], pos_[c]}, {pos_[b], p, pos_[d]}, {p, pos_[a], pos_[d]}};
+  const Vec3 o1 = doubleAreaVector(pos_[a], pos_[b], pos_[c]), o2 = doubleAreaVector(pos_[b], pos_[a], pos_[d]);
+  for (std::size_t k = 0; k < made.size(); ++k) {
+    const auto& t = made[k];
+    const Vec3 n = doubleAreaVector(t[0], t[1], t[2]);
+    const double longest =
+        std::max({(t[1] - t[0]).SquaredNorm(), (t[2] - t[1]).SquaredNorm(), (t[0] - t[2]).SquaredNorm()});
+    if (!(n.Norm() > kCollapse * longest) || !(n * (k < 2 ? o1 : o2) > 0)) return NoGain;
+  }
+  if (!nearInput(made)) return OverBound;
+  const int m = static_cast<int>(pos_.size());
+  pos_.push_back(p);
+  deleted_.push_back(0);
+  role_.push_back(feat ? Role::Crease : Role::Free);
+  newCrease_.push_back(feat ? 1 : 0);
+  vf_.emplace_back();
+  const int f3 = static_cast<int>(faces_.tri.size()), f4 = f3 + 1;
+  faces_.tri[f1] = {a, m, c};
+  faces_.tri[f2] = {b, m, d};
+  faces_.tri.push_back({m, b, c});
+  faces_.tri.push_back({m, a, d});
+  for (int k = 0; k < 2; ++k) {
+    faces_.live.push_back(1);
+    faces_.flippable.push_back(1);
+  }
+  removeFromVf(b, f1);
+  removeFromVf(a, f2);
+  vf_[m] = {f1, f2, f3, f4};
+  vf_[b].push_back(f3);
+  vf_[c].push_back(f3);
+  vf_[a].push_back(f4);
+  vf_[d].push_back(f4);
+  if (feat) {
+    feature_.erase(key(a, b));
+    feature_.insert(key(a, m));
+    feature_.insert(key(m, b));
+  }
+  ++r_.splits;
+  ++r_.added;
+  touched_.insert(touched_.end(), {a, b, c, d, m});
+  return Done;
+}
+
+/// One attempt on face f: a cap (largest angle over 100 degrees) gets its
+/// long edge flipped or split; a needle its short edge collapsed, else a
+/// long edge flipped or split. why gets the strongest reason of failure.
+inline bool LocalRepair::fixFace(int f, RepairReason& why) {
+  const auto t = faces_.tri[f];
+  double len[3];
+  for (int j = 0; j < 3; ++j) len[j] = (pos_[t[(j + 2) % 3]] - pos_[t[(j + 1) % 3]]).SquaredNorm();  // opposite t[j]
+  int e[3] = {0, 1, 2};
+  std::sort(e, e + 3, [&](int x, int y) { return len[x] < len[y]; });
+  const auto ends = [&](int j, int& x, int& y) { x = t[(j + 1) % 3], y = t[(j + 2) % 3]; };
+  const Vec3 u = pos_[t[(e[2] + 1) % 3]] - pos_[t[e[2]]], w = pos_[t[(e[2] + 2) % 3]] - pos_[t[e[2]]];
+  const bool cap = angleBetween(u, w) > 100 * kPi / 180;
+  int worst = NoGain;
+  const auto note = [&](Verdict v) {
+    if (v == OverBound || (v == Topology && worst != OverBound)) worst = v;
+    return v == Done;
+  };
+  int x, y;
+  if (!cap) {
+    ends(e[0], x, y);
+    if (note(tryCollapse(x, y)) || note(tryCollapse(y, x))) return true;
+  }
+  for (int k = 2; k >= 1; --k) {
+    ends(e[k], x, y);
+    if (note(tryFlip(x, y))) return true;
+  }
+  ends(e[2], x, y);
+  if (!cap) {
+    if (note(trySplit(x, y))) return true;
+  } else {
+    // A cap's apex lies near its long edge: split the edge at the apex's
+    // foot and merge the apex into the new vertex when it may go.
+    const int apex = t[e[2]];
+    const Vec3 d = pos_[y] - pos_[x];
+    const double along = std::min(0.8, std::max(0.2, ((pos_[apex] - pos_[x]) * d) / d.SquaredNorm()));
+    if (note(trySplit(x, y, along))) {
+      tryCollapse(apex, static_cast<int>(pos_.size()) - 1);
+      return true;
+    }
+  }
+  why = worst == OverBound ? RepairReason::Bound : worst == Topology ? RepairReason::NonManifold
+                                                                     : RepairReason::Pinned;
+  return false;
+}
+
+/// Flips the edges around the given vertices while a flip raises the
+/// smaller angle of its pair, a few passes at most.
+inline void LocalRepair::flipAround(const std::vector<int>& vertices) {
+  std::vector<int> seeds = vertices;
+  for (int pass = 0; pass < 5 && !seeds.empty(); ++pass) {
+    const std::size_t from = touched_.size();
+    for (int a : seeds) {
+      if (deleted_[a]) continue;
+      std::vector<int> nbr;
+      for (int f : vf_[a])
+        for (int b : faces_.tri[f])
+          if (b != a) nbr.push_back(b);
+      std::sort(nbr.begin(), nbr.end());
+      nbr.erase(std::unique(nbr.begin(), nbr.end()), nbr.end());
+      for (int b : nbr)
+        if (!deleted_[a] && !deleted_[b]) tryFlip(a, b);
+    }
+    seeds.assign(touched_.begin() + from, touched_.end());
+    std::sort(seeds.begin(), seeds.end());
+    seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  }
+}
+
+/// The ring of interior vertex v in the orientation of its faces; false
+/// when its faces do not form one closed fan.
+inline bool LocalRepair::orderedRing(int v, std::vector<int>& ring) const {
+  const std::vector<int>& fs = vf_[v];
+  ring.clear();
+  if (fs.size() < 3) return false;
+  std::vector<std::pair<int, int>> next;  // x -> y for face (v, x, y)
+  for (int f : fs) {
+    const auto& t = faces_.tri[f];
+    for (int j = 0; j < 3; ++j)
+      if (t[j] == v) next.push_back({t[(j + 1) % 3], t[(j + 2) % 3]});
+  }
+  int cur = next[0].first;
+  for (std::size_t k = 0; k < next.size(); ++k) {
+    ring.push_back(cur);
+    int to = -1, hits = 0;
+    for (const auto& e : next)
+      if (e.first == cur) to = e.second, ++hits;
+    if (hits != 1) return false;
+    cur = to;
+  }
+  return cur == ring[0];
+}
+
+/// One S-ODT move of v under the guards: a free vertex in its tangent
+/// plane (Eq. 5's closed form), a crease vertex along the line of its two
+/// feature neighbours; the step halves up to three times, then the
+/// tangential Laplacian step is tried. A step is taken when no face folds
+/// nor gets a smaller smallest angle than the star had, the star stays
+/// near the input and covers v's old position.
+inline bool LocalRepair::relax(int v) {
+  if (deleted_[v] || role_[v] == Role::Fixed) return false;
+  std::vector<int> ring;
+  if (!orderedRing(v, ring)) return false;
+  Star st;
+  st.center = pos_[v];
+  for (int u : ring) st.ring.push_back(pos_[u]);
+  const Vec3 n = starNormal(st);
+  if (n.SquaredNorm() == 0) return false;
+  Vec3 target, fallback;
+  const Vec3 centroid = ringCentroid(st);
+  if (role_[v] == Role::Free) {
+    const LocalMove mv = solveStar(st, n);
+    target = mv.ok ? mv.target : st.center;
+    fallback = tangentialLaplacianTarget(st, n);
+  } else {
+    int ends[2], k = 0;
+    for (int u : ring)
+      if (k < 2 && isFeature(v, u)) ends[k++] = u;
+    if (k != 2) return false;
+    Vec3 e = pos_[ends[1]] - pos_[ends[0]];
+    if (!(e.Norm() > 0)) return false;
+    e /= e.Norm();
+    Vec3 p;
+    target = minimizeOnLine(sodtQuadratic(st, n), Vec3(0, 0, 0), e, p) ? st.center + p : st.center;
+    fallback = st.center + e * ((centroid - st.center) * e);
+  }
+  std::vector<Vec3> cur;
+  std::vector<double> edge2;
+  const double limit = prepareGuard(st, n, true, cur, edge2);
+  const Vec3 steps[5] = {target, st.center + (target - st.center) * 0.5, st.center + (target - st.center) * 0.25,
+                         st.center + (target - st.center) * 0.125, fallback};
+  for (const Vec3& y : steps) {
+    if (!isFinite(y) || (y - st.center).SquaredNorm() == 0) continue;
+    if (!moveAllowed(st, y, cur, edge2, true, limit)) continue;
+    std::vector<std::array<Vec3, 3>> made;
+    for (std::size_t k = 0; k < st.size(); ++k) made.push_back({y, st.at(k), st.at(k + 1)});
+    if (input_ && s_.bound > 0 && !input_->within(y, s_.bound)) continue;
+    if (!nearInput(made) || !covered(st.center, made)) continue;
+    pos_[v] = y;
+    ++r_.relaxMoves;
+    return true;
+  }
+  return false;
+}
+
+/// The state a round leaves, for returning the best one.
+struct LocalRepair::Snapshot {
+  std::vector<Vec3> pos;
+  FaceList faces;
+  std::vector<char> deleted, newCrease;
+  std::vector<Role> role;
+  std::vector<std::vector<int>> vf;
+  std::unordered_set<std::uint64_t> feature;
+  RepairResult counts;
+  double minAngle = 0;
+  std::size_t below = 0;
+};
+
+inline void LocalRepair::score(double& minAngle, std::size_t& below) const {
+  minAngle = kPi;
+  below = 0;
+  for (std::size_t f = 0; f < faces_.tri.size(); ++f) {
+    if (!faces_.live[f]) continue;
+    const double a = faceMinAngle(int(f));
+    minAngle = std::min(minAngle, a);
+    below += a < s_.targetRad;
+  }
+}
+
+inline void LocalRepair::save(Snapshot& s) const {
+  s.pos = pos_, s.faces = faces_, s.deleted = deleted_, s.newCrease = newCrease_;
+  s.role = role_, s.vf = vf_, s.feature = feature_, s.counts = r_;
+}
+
+inline void LocalRepair::restore(const Snapshot& s) {
+  pos_ = s.pos, faces_ = s.faces, deleted_ = s.deleted, newCrease_ = s.newCrease;
+  role_ = s.role, vf_ = s.vf, feature_ = s.feature, r_ = s.counts;
+}
+
+/// One round: an attempt on every face below the target, worst first, then
+/// flips and S-ODT relaxation around what changed. False when nothing
+/// changed; budgetOut is set when the budget stopped the round.
+inline bool LocalRepair::round(std::vector<RepairReason>& why, bool& budgetOut) {
+  std::vector<std::pair<double, int>> bad;
+  for (std::size_t f = 0; f < faces_.tri.size(); ++f)
+    if (faces_.live[f] && faceMinAngle(int(f)) < s_.targetRad) bad.push_back({faceMinAngle(int(f)), int(f)});
+  std::sort(bad.begin(), bad.end());
+  touched_.clear();
+  bool progress = false;
+  for (const auto& b : bad) {
+    const int f = b.second;
+    if (!faces_.live[f] || faceMinAngle(f) >= s_.targetRad) continue;
+    if (r_.added + r_.removed >= s_.maxChanges) {
+      budgetOut = true;
+      break;
+    }
+    RepairReason w = RepairReason::Pinned;
+    if (fixFace(f, w))
+      progress = true;
+    else if (std::size_t(f) < why.size())
+      why[f] = w;
+  }
+  why.resize(faces_.tri.size(), RepairReason::Pinned);
+  std::vector<int> region = touched_;
+  std::sort(region.begin(), region.end());
+  region.erase(std::unique(region.begin(), region.end()), region.end());
+  flipAround(region);
+  std::vector<int> relaxSet;
+  for (int v : region)
+    for (int f : vf_[v])
+      for (int u : faces_.tri[f]) relaxSet.push_back(u);
+  std::sort(relaxSet.begin(), relaxSet.end());
+  relaxSet.erase(std::unique(relaxSet.begin(), relaxSet.end()), relaxSet.end());
+  for (int sweep = 0; sweep < 4; ++sweep)
+    for (int v : relaxSet) relax(v);
+  flipAround(relaxSet);
+  return progress;
+}
+
+/// Rounds until no face is below the target, a round changes nothing, or
+/// the rounds or the budget run out; returns the best state seen (the
+/// largest smallest angle, then the fewest faces below the target), the
+/// swept mesh included, so the repair never leaves a worse mesh.
+inline RepairResult LocalRepair::run() {
+  std::vector<RepairReason> why(faces_.tri.size(), RepairReason::Pinned);
+  bool budgetOut = false;
+  Snapshot best;
+  score(best.minAngle, best.below);
+  save(best);
+  for (int k = 0; k < s_.maxRounds && best.below > 0; ++k) {
+    const bool progress = round(why, budgetOut);
+    double a;
+    std::size_t n;
+    score(a, n);
+    if (a > best.minAngle || (a == best.minAngle && n < best.below)) {
+      save(best);
+      best.minAngle = a, best.below = n;
+    }
+    if (!progress || budgetOut) break;
+  }
+  restore(best);
+  why.resize(faces_.tri.size(), RepairReason::Pinned);
+  for (std::size_t f = 0; f < faces_.tri.size(); ++f) {
+    if (!faces_.live[f]) continue;
+    const double a = faceMinAngle(int(f));
+    if (a < s_.targetRad) {
+      const auto& t = faces_.tri[f];
+      const Vec3 c = (pos_[t[0]] + pos_[t[1]] + pos_[t[2]]) / 3.0;
+      r_.remaining.push_back({{c[0], c[1], c[2]}, a * 180 / kPi, budgetOut ? RepairReason::Budget : why[f]});
+    }
+  }
+  return r_;
+}
+
+/// The input the repair keeps to: its faces, hashed (taken before the
+/// first sweep), and the distance bound both ways (0 for none: a run
+/// without the deviation guard, or Denoise, which leaves its input).
+struct RepairInput {
+  std::unique_ptr<InputGrid> grid;
+  double bound = 0;
+
+  void prepare(const SodtParams& p, const std::vector<Vec3>& pos, const FaceList& faces, const RingTopology& topo) {
+    if (!p.repair) return;
+    double sum = 0;
+    long long n = 0;
+    for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+      if (!faces.live[f]) continue;
+      const auto& t = faces.tri[f];
+      for (int j = 0; j < 3; ++j, ++n) sum += (pos[t[(j + 1) % 3]] - pos[t[j]]).Norm();
+    }
+    const double diag = surfaceDiagonal(pos, topo);
+    const double cell = n > 0 && sum > 0 ? sum / double(n) : diag > 0 ? diag : 1.0;
+    grid.reset(new InputGrid(pos, faces, cell));
+    if (DeviationInput::applies(p)) bound = p.maxDeviationRel * diag;
+  }
+};
+
+/// Runs the repair (SodtParams::repair) on the swept working mesh and
+/// resizes m for what it added and removed; cls grows by the added
+/// vertices (smooth, or crease on a feature edge) and moved receives them.
+template <class MeshType>
+void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const RepairInput& input,
+                       Classification& cls, std::vector<int>& moved, SodtStats& stats) {
+  const std::size_t nv0 = w.pos.size();
+  const std::vector<char> liveBefore = w.faces.live;
+  std::vector<char> movable(nv0, 0);
+  for (int v : moved) movable[v] = 1;
+  RepairSettings s;
+  s.targetRad = p.repairAngleDeg * kPi / 180;
+  s.featureRad = p.featureAngleDeg * kPi / 180;
+  s.flipMaxRad = std::max(p.flipMaxDihedralDeg, 1.0) * kPi / 180;
+  s.bound = input.bound;
+  s.maxChanges = static_cast<long long>(nv0);
+  LocalRepair repair(w.pos, w.faces, w.deleted, input.grid.get(), s);
+  const bool classified = p.algorithm == Algorithm::Feature || p.algorithm == Algorithm::Denoise;
+  repair.setUp(movable, classified ? &cls.cls : nullptr, classified ? &cls.creaseDir : nullptr);
+  const RepairResult r = repair.run();
+  stats.repairSplits = r.splits;
+  stats.repairCollapses = r.collapses;
+  stats.repairFlips = r.flips;
+  stats.verticesAdded = r.added;
+  stats.verticesRemoved = r.removed;
+  stats.repairMoves = r.relaxMoves;
+  stats.belowTarget = r.remaining;
+  for (char c : repair.newCrease()) {
+    cls.cls.push_back(c ? VertexClass::Crease : VertexClass::Smooth);
+    if (!cls.creaseDir.empty()) cls.creaseDir.push_back(Vec3(0, 0, 0));
+  }
+  for (std::size_t i = nv0; i < w.pos.size(); ++i) moved.push_back(static_cast<int>(i));
+  resizeForRepair(m, w, nv0, liveBefore, p.selectedOnly);
+  w.topo = buildRingTopology(w.faces, w.deleted);
+}
+
+}  // namespace sodt
