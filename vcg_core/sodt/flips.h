@@ -23,11 +23,23 @@ inline double pairMinAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Ve
   return std::min(triangleMinAngle(a, b, c), triangleMinAngle(d, e, f));
 }
 
+/// An edge between two feature vertices runs along the crease when it lies
+/// within this angle of the crease direction e3 of a crease end: wide enough
+/// for the zigzag of a crease across a coarse mesh, narrow enough to let
+/// the slivers that cross a flat face from one feature line to another flip.
+constexpr double kCreaseEdgeMaxDeg = 30.0;
+
 /// Options of a flip pass.
 struct FlipRules {
   /// Only flip edges whose faces' normals differ by less (default: SodtParams).
   double maxDihedralRad = SodtParams{}.flipMaxDihedralDeg * kPi / 180.0;
-  const std::vector<VertexClass>* cls = nullptr;  ///< feature edges (both ends crease/corner) are kept
+  /// Per vertex, may be null: with it, the feature edges along creases are
+  /// kept (see featureEdge).
+  const std::vector<VertexClass>* cls = nullptr;
+  /// Per vertex, the unit crease direction e3 of the Crease vertices of cls
+  /// (Classification::creaseDir). Null: every edge between two crease or
+  /// corner vertices counts as a feature edge.
+  const std::vector<Vec3>* creaseDir = nullptr;
   double minGainRad = 1e-9;                       ///< a flip must raise the pair's min angle by more
   /// Deviation guard (may be null): the new edge and faces must stay within
   /// the bound of the input surface, like the vertex moves.
@@ -58,6 +70,35 @@ inline bool flipKeepsInput(const InputSurface& in, const std::vector<Vec3>& pos,
     if (!ok) return false;
   }
   return true;
+}
+
+/// True when the edge a-b runs along a crease, as classified: both ends
+/// are crease or corner vertices, and the edge lies within
+/// kCreaseEdgeMaxDeg of the crease direction of a crease end (of either:
+/// near a corner or where two creases meet, one end following its crease
+/// is enough to keep the edge, the safe side). A corner
+/// has no direction, so an edge between two corners always counts (with
+/// no way to tell the feature edge that joins two corners from one across
+/// a face, it is kept, as flips always did); a corner-crease edge counts
+/// when it follows the crease end. A crease end without a direction (zero
+/// e3, or no creaseDir at all) and a zero-length edge count too.
+inline bool featureEdge(const FlipRules& rules, const std::vector<Vec3>& pos, int a, int b) {
+  if (!rules.cls) return false;
+  const VertexClass ca = (*rules.cls)[a], cb = (*rules.cls)[b];
+  const auto feature = [](VertexClass c) { return c == VertexClass::Crease || c == VertexClass::Corner; };
+  if (!feature(ca) || !feature(cb)) return false;
+  if (!rules.creaseDir || (ca == VertexClass::Corner && cb == VertexClass::Corner)) return true;
+  const double c = std::cos(kCreaseEdgeMaxDeg * kPi / 180.0);
+  const Vec3 e = pos[b] - pos[a];
+  const double ee = e.SquaredNorm();
+  for (int v : {a, b}) {
+    if ((*rules.cls)[v] != VertexClass::Crease) continue;
+    const Vec3& dir = (*rules.creaseDir)[v];
+    const double ed = e * dir;
+    // |cos(e, dir)| >= c, without a square root; true for e or dir zero.
+    if (ed * ed >= c * c * ee * dir.SquaredNorm()) return true;
+  }
+  return false;
 }
 
 namespace detail {
@@ -96,7 +137,7 @@ inline bool flipCannotGain(const Vec3& a, const Vec3& b, const Vec3& c, const Ve
 /// (b, a, d) becomes c-d, with faces (a, d, c) and (d, b, c), when
 /// - both faces are live and flippable, c != d, and the edge c-d does not exist;
 /// - the faces' normals differ by less than rules.maxDihedralRad;
-/// - a and b are not both crease/corner vertices (a feature edge);
+/// - a-b is not a feature edge along a crease (featureEdge);
 /// - both new faces keep the orientation of the pair (no fold);
 /// - the smallest angle of the pair grows by more than rules.minGainRad.
 /// Edges are taken in the order of (a, b) with a < b, and what a flip changes
@@ -155,11 +196,6 @@ inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRul
     const auto r = range(a, b);
     return r.first != r.second;
   };
-  auto isFeature = [&rules](int v) {
-    if (!rules.cls) return false;
-    const VertexClass c = (*rules.cls)[v];
-    return c == VertexClass::Crease || c == VertexClass::Corner;
-  };
   auto third = [&faces](int f, int a, int b) {
     for (int v : faces.tri[f])
       if (v != a && v != b) return v;
@@ -196,7 +232,7 @@ inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRul
       const double after = pairMinAngle(pa, pd, pc, pd, pb, pc);
       if (!(after > before + rules.minGainRad)) continue;
       if (exists(c, d) || exists(d, c) || created.count({std::min(c, d), std::max(c, d)})) continue;
-      if (isFeature(a) && isFeature(b)) continue;
+      if (featureEdge(rules, pos, a, b)) continue;
       if (rules.input && !flipKeepsInput(*rules.input, pos, a, b, c, d)) continue;
       faces.tri[f1] = {a, d, c};
       faces.tri[f2] = {d, b, c};

@@ -485,7 +485,8 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "stay), which the paper keeps",
                   "After each sweep an interior edge is flipped only when its two triangles are nearly "
                   "coplanar (see flip max dihedral) and the smaller angle of the pair grows; never a "
-                  "crease edge of feature or denoise (both ends crease or corner vertices), never onto an "
+                  "crease edge of feature or denoise (both ends crease or corner vertices and the edge within "
+                  "30 degrees of the crease direction), never onto an "
                   "existing edge (which would make it non-manifold), never into a fold, and with selected "
                   "only never unless both faces are selected or have all their vertices selected. Lifts "
                   "the minimum angle further than moving vertices alone.");

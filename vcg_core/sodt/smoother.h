@@ -99,7 +99,10 @@ struct SodtSmoother {
     reachBox(p, w.pos, w.topo, meanEdge, ctx.boxLo, ctx.boxHi);
     FlipRules flipRules;
     flipRules.maxDihedralRad = p.flipMaxDihedralDeg * kPi / 180.0;
-    if (p.algorithm != Algorithm::Basic) flipRules.cls = &cls.cls;
+    if (p.algorithm != Algorithm::Basic) {
+      flipRules.cls = &cls.cls;
+      flipRules.creaseDir = &cls.creaseDir;
+    }
     flipRules.input = input.get();  // flips must keep the bound too
     BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, faceNormal, threads, tuning.simd);
 
