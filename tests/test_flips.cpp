@@ -342,6 +342,34 @@ TEST(Flips, FlatEdgeBetweenTwoCreaseLinesFlips) {
   EXPECT_GT(after, before + 5 * sodt::kPi / 180);
 }
 
+TEST(Flips, NewFacesKeepTheFaceTurnBound) {
+  // The sliver pair of FlipPassImprovesAPlanarPair, with input normals
+  // tilted 35 degrees about x: the new faces (normal +z) would lie 35
+  // degrees from the merged input normal. A 40-degree bound lets the flip
+  // happen, a 30-degree one refuses it, and without the turn guard
+  // (Guard::None) it happens; a flip gives both new faces the merged normal.
+  const std::vector<sodt::Vec3> pos{{0, 0, 0}, {1, 0, 0}, {0.5, 0.05, 0}, {0.5, -1, 0}};
+  const double t = 35 * sodt::kPi / 180;
+  for (double boundDeg : {40.0, 30.0}) {
+    for (bool keepTurn : {true, false}) {
+      sodt::FaceList fl;
+      fl.tri = {{{0, 1, 2}}, {{1, 0, 3}}};
+      fl.live = {1, 1};
+      fl.flippable = {1, 1};
+      std::vector<sodt::Vec3> ref{sodt::Vec3(0, -std::sin(t), std::cos(t)), sodt::Vec3(0, -std::sin(t), std::cos(t))};
+      sodt::FlipRules rules;
+      rules.keepTurn = keepTurn;
+      rules.maxTurnCos2 = sodt::faceTurnCos2(boundDeg);
+      const int want = keepTurn && boundDeg < 35 ? 0 : 1;
+      EXPECT_EQ(sodt::flipPass(fl, pos, rules, &ref), want) << boundDeg << " " << keepTurn;
+      if (want == 1) {
+        EXPECT_NEAR(ref[0][1], -std::sin(t), 1e-12);
+        EXPECT_EQ(ref[0], ref[1]);
+      }
+    }
+  }
+}
+
 TEST(Flips, KeepVertexCountManifoldnessAndOrientation) {
   sodt::MeshD m;
   sodt_test::makeSphere(m, 3);

@@ -5,6 +5,7 @@
 
 #include "deviation.h"
 #include "geometry.h"
+#include "local_solve.h"
 #include "params.h"
 #include "topology.h"
 
@@ -44,6 +45,12 @@ struct FlipRules {
   /// Deviation guard (may be null): the new edge and faces must stay within
   /// the bound of the input surface, like the vertex moves.
   const InputSurface* input = nullptr;
+  /// Turn guard (with a refNormal): each new face must keep within the
+  /// angle of maxTurnCos2 (Star::maxTurnCos2; 0: 90 degrees) of the pair's
+  /// merged input normal, which it takes as its own, like a moved face of
+  /// its input normal. Off for Guard::None.
+  bool keepTurn = false;
+  double maxTurnCos2 = 0;
 };
 
 /// True when the surface made by flipping a-b into c-d stays within input's
@@ -139,11 +146,14 @@ inline bool flipCannotGain(const Vec3& a, const Vec3& b, const Vec3& c, const Ve
 /// - the faces' normals differ by less than rules.maxDihedralRad;
 /// - a-b is not a feature edge along a crease (featureEdge);
 /// - both new faces keep the orientation of the pair (no fold);
+/// - with rules.keepTurn and a refNormal, both new faces keep within the
+///   turn of rules.maxTurnCos2 of the merged input normal (see below);
 /// - the smallest angle of the pair grows by more than rules.minGainRad.
 /// Edges are taken in the order of (a, b) with a < b, and what a flip changes
 /// (the two faces it made, the edge c-d it made) is seen by the edges after
 /// it in the same pass: the flips of a pass depend on that order.
-/// refNormal (per face, may be empty) is updated for the two new faces.
+/// refNormal (per face, may be empty) is updated for the two new faces: both
+/// get the normalised sum of the two old faces' (zero when it vanishes).
 /// flipped (may be null) gets a, b, c, d of every flip appended.
 ///
 /// seed (per vertex, may be null) limits the pass to the edges with a seed
@@ -234,16 +244,23 @@ inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRul
       if (exists(c, d) || exists(d, c) || created.count({std::min(c, d), std::max(c, d)})) continue;
       if (featureEdge(rules, pos, a, b)) continue;
       if (rules.input && !flipKeepsInput(*rules.input, pos, a, b, c, d)) continue;
+      const bool haveRef = refNormal && !refNormal->empty();
+      Vec3 merged(0, 0, 0);
+      if (haveRef) {
+        merged = (*refNormal)[f1] + (*refNormal)[f2];
+        const double len = merged.Norm();
+        merged = len > 0 ? merged / len : Vec3(0, 0, 0);
+        // The moves' guard tests every face against its input normal: a
+        // new face beyond the bound would freeze its vertices.
+        if (rules.keepTurn &&
+            (turnsBeyond(m1, merged, rules.maxTurnCos2) || turnsBeyond(m2, merged, rules.maxTurnCos2)))
+          continue;
+      }
       faces.tri[f1] = {a, d, c};
       faces.tri[f2] = {d, b, c};
       touched[f1] = touched[f2] = 1;
       created.insert({std::min(c, d), std::max(c, d)});
-      if (refNormal && !refNormal->empty()) {
-        Vec3 r = (*refNormal)[f1] + (*refNormal)[f2];
-        const double len = r.Norm();
-        r = len > 0 ? r / len : Vec3(0, 0, 0);
-        (*refNormal)[f1] = (*refNormal)[f2] = r;
-      }
+      if (haveRef) (*refNormal)[f1] = (*refNormal)[f2] = merged;
       if (flipped) flipped->insert(flipped->end(), {a, b, c, d});
       ++flips;
     }

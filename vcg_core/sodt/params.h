@@ -118,6 +118,11 @@ struct SodtParams {
   /// neighbours share a colour), so the result is bit-identical for every
   /// thread count.
   int threads = 0;
+  /// Largest angle, in degrees (0..90], between a face's normal and its
+  /// input normal that a guarded move or a flip may leave (every guard but
+  /// Guard::None): faces that turn up to 90 degrees pile up into edges far
+  /// sharper than the input's; 90 is the fold test alone.
+  double maxFaceTurnDeg = 40.0;
 
   /// Throws InvalidInput naming the offending field when a value lies
   /// outside its range in paramTable().
@@ -163,6 +168,11 @@ struct SodtStats {
   /// measurements and progress callbacks between them), without the set-up
   /// before them and the write-back after.
   double sweepSeconds = 0;
+  /// Largest angle, in degrees, between a face's normal in the returned mesh
+  /// and its input normal (for a face made by a flip, the mean of the input
+  /// normals of the two faces it replaced); faces degenerate either way are
+  /// left out.
+  double maxFaceTurnDeg = 0;
 };
 
 inline const char* toString(Guard g) {
@@ -402,7 +412,7 @@ struct ParamSpec {
 inline const std::vector<ParamSpec>& paramTable() {
   static const std::vector<ParamSpec> table = [] {
     const unsigned feature = algorithmBit(Algorithm::Feature), denoise = algorithmBit(Algorithm::Denoise);
-    std::vector<ParamSpec> t(15);
+    std::vector<ParamSpec> t(16);
     t[0].bind("algorithm", &SodtParams::algorithm).keys("algorithm", "algorithm").cli("--algorithm", "NAME")
         .dialog("Algorithm")
         .describe("vertex update rule")
@@ -432,8 +442,8 @@ inline const std::vector<ParamSpec>& paramTable() {
         .choose({{toString(Guard::None), "None (paper, literal)",
                   "commit every solved move, as the paper does (on poor input this can fold triangles)"},
                  {toString(Guard::Fold), "Fold",
-                  "reject a move that flips or collapses an incident triangle or turns it by more than 90 "
-                  "degrees from its input orientation"},
+                  "reject a move that flips or collapses an incident triangle or turns it by more than max "
+                  "face turn from its input orientation"},
                  {toString(Guard::Quality), "Quality",
                   "as fold, and the smallest angle of the vertex's one-ring may not decrease"}});
     t[3].bind("maxBacktracks", &SodtParams::maxBacktracks).keys("maxBacktracks", "max_backtracks")
@@ -513,6 +523,12 @@ inline const std::vector<ParamSpec>& paramTable() {
         .cli("--selected-only", nullptr).dialog("Affect only selection").onWithSelectionInPlugin()
         .describe("move only the selected vertices (the others stay fixed but still shape their "
                   "neighbours' one-rings)");
+    t[15].bind("maxFaceTurnDeg", &SodtParams::maxFaceTurnDeg).keys("maxFaceTurn", "max_face_turn")
+        .cli("--max-face-turn", "DEG").dialog("Max face turn (deg)").shownIn("degrees").range(0, 90, true)
+        .describe("largest angle between a face's normal and its input normal that a move or a flip may leave",
+                  "Moves and flips that turn a face further are shortened or rejected like any guard veto, "
+                  "so that faces do not pile up into edges sharper than the input's; 90 only rejects "
+                  "folds. Unused with guard none.");
     return t;
   }();
   return table;

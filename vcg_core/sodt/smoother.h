@@ -86,8 +86,13 @@ struct SodtSmoother {
     stats.creaseVertices = cls.crease();
     stats.cornerVertices = cls.corner();
     const std::vector<int> active = activeVertices(p, w.topo, cls, w.selected, stats);
-    std::vector<Vec3> faceNormal =  // flips turn the flipped faces' too
-        p.guard != Guard::None || p.keepBest ? faceNormals(w.faces, w.pos) : std::vector<Vec3>();
+    // The input orientation of every face (flips merge the flipped pair's):
+    // the guards and keepBest test faces against it, and the returned
+    // state's largest face turn is measured from it.
+    std::vector<Vec3> faceNormal =
+        faceNormals(w.faces, w.pos, p.guard != Guard::None ? p.maxFaceTurnDeg : 90.0);
+    const std::vector<Vec3> none;
+    const std::vector<Vec3>& guardNormal = p.guard != Guard::None || p.keepBest ? faceNormal : none;
     const std::vector<FittedFrame> fit =
         p.algorithm == Algorithm::Denoise
             ? fitDenoiseFrames(w.topo, w.pos, std::move(projected), cls, active, threads)
@@ -104,15 +109,17 @@ struct SodtSmoother {
       flipRules.creaseDir = &cls.creaseDir;
     }
     flipRules.input = input.get();  // flips must keep the bound too
-    BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, faceNormal, threads, tuning.simd);
+    flipRules.keepTurn = p.guard != Guard::None;  // and the face turn
+    flipRules.maxTurnCos2 = faceTurnCos2(p.maxFaceTurnDeg);
+    BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, guardNormal, threads, tuning.simd);
 
-    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, faceNormal, active, threads, tuning);
+    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, guardNormal, active, threads, tuning);
     const auto sweepsStart = std::chrono::steady_clock::now();
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
       sweeper.sweep();
       ++stats.iterations;
       if (p.flips) flipEdges(w, flipRules, faceNormal, sweeper, stats);
-      const bool stop = best.afterSweep(it + 1, w.faces, w.pos, faceNormal);
+      const bool stop = best.afterSweep(it + 1, w.faces, w.pos, guardNormal);
       const bool goOn = !cb || cb(100 * (it + 1) / p.iterations, ("S-ODT sweep " + std::to_string(it + 1) + "/" +
                                                                   std::to_string(p.iterations)).c_str());
       stats.stoppedEarly = stop;
@@ -121,8 +128,9 @@ struct SodtSmoother {
     }
     stats.sweepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sweepsStart).count();
     sweeper.addCounts(stats);
-    stats.returnedSweep = best.restore(stats.iterations, w.pos, w.faces);
+    stats.returnedSweep = best.restore(stats.iterations, w.pos, w.faces, faceNormal);
     if (stats.returnedSweep != stats.iterations && p.flips) w.topo = buildRingTopology(w.faces, w.deleted);
+    stats.maxFaceTurnDeg = largestFaceTurnDeg(w.faces, w.pos, faceNormal);
 
     // The mesh is written only here, positions and faces together.
     writeBack(m, w, active, stats.flips > 0 || stats.reorientedFaces > 0, threads);
