@@ -48,7 +48,7 @@ struct FlipRules {
   /// Turn guard (with a refNormal): each new face must keep within the
   /// angle of maxTurnCos2 (Star::maxTurnCos2; 0: 90 degrees) of the pair's
   /// merged input normal, which it takes as its own, like a moved face of
-  /// its input normal. Off for Guard::None.
+  /// its input normal. Off without a bound (Guard::None, Denoise, 90 degrees).
   bool keepTurn = false;
   double maxTurnCos2 = 0;
 };

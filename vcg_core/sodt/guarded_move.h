@@ -20,6 +20,14 @@
 
 namespace sodt {
 
+/// The squared cosine of the largest face turn the run's guard allows
+/// (faceTurnCos2 of SodtParams::maxFaceTurnDeg): 0, the fold test alone,
+/// with Guard::None and for Denoise, whose moves exist to turn noisy faces
+/// into the surface (it has no deviation bound either).
+inline double runTurnCos2(const SodtParams& p) {
+  return p.guard == Guard::None || p.algorithm == Algorithm::Denoise ? 0.0 : faceTurnCos2(p.maxFaceTurnDeg);
+}
+
 /// How one vertex visit ended.
 enum class Outcome : unsigned char { Moved, Backtracked, Fallback, Rejected, Unchanged, Failed };
 

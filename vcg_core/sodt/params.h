@@ -120,8 +120,9 @@ struct SodtParams {
   int threads = 0;
   /// Largest angle, in degrees (0..90], between a face's normal and its
   /// input normal that a guarded move or a flip may leave (every guard but
-  /// Guard::None): faces that turn up to 90 degrees pile up into edges far
-  /// sharper than the input's; 90 is the fold test alone.
+  /// Guard::None; not used by Denoise): faces that turn up to 90 degrees
+  /// pile up into edges far sharper than the input's; 90 is the fold test
+  /// alone.
   double maxFaceTurnDeg = 40.0;
 
   /// Throws InvalidInput naming the offending field when a value lies
@@ -525,10 +526,12 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "neighbours' one-rings)");
     t[15].bind("maxFaceTurnDeg", &SodtParams::maxFaceTurnDeg).keys("maxFaceTurn", "max_face_turn")
         .cli("--max-face-turn", "DEG").dialog("Max face turn (deg)").shownIn("degrees").range(0, 90, true)
+        .usedBy(kEveryAlgorithm & ~denoise)
         .describe("largest angle between a face's normal and its input normal that a move or a flip may leave",
                   "Moves and flips that turn a face further are shortened or rejected like any guard veto, "
                   "so that faces do not pile up into edges sharper than the input's; 90 only rejects "
-                  "folds. Unused with guard none.");
+                  "folds. Unused by denoise, whose moves turn noisy faces into the surface, and with guard "
+                  "none.");
     return t;
   }();
   return table;

@@ -109,6 +109,9 @@ inline Vec3 turnTowards(const Vec3& from, const Vec3& to, double maxRad) {
 /// surface. A sliver folded against that surface (normals more than 90
 /// degrees apart) gets none: its input orientation is no reference for
 /// either side; the fold test against its current orientation remains.
+/// Without a bound (maxTurnDeg 90 or more) every face keeps its own normal,
+/// as the fold test always had it: the Denoise runs on bunny_closed lose
+/// most of their smallest angle with the slivers' references replaced.
 inline std::vector<Vec3> faceNormals(const FaceList& faces, const std::vector<Vec3>& pos, double maxTurnDeg = 90) {
   std::vector<Vec3> normal(faces.tri.size(), Vec3(0, 0, 0));
   std::vector<Vec3> around;  // per vertex, the sum of its faces' area vectors (when a sliver needs it)
@@ -120,7 +123,7 @@ inline std::vector<Vec3> faceNormals(const FaceList& faces, const std::vector<Ve
     const Vec3 a = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
     const double len = a.Norm();
     const bool own = len > 0 && std::isfinite(len);
-    if (own && triangleMinAngle(pos[t[0]], pos[t[1]], pos[t[2]]) >= sliverRad) {
+    if (own && (!(maxTurnDeg < 90) || triangleMinAngle(pos[t[0]], pos[t[1]], pos[t[2]]) >= sliverRad)) {
       normal[f] = a / len;
       continue;
     }
@@ -136,7 +139,7 @@ inline std::vector<Vec3> faceNormals(const FaceList& faces, const std::vector<Ve
     }
     const Vec3 mean = around[t[0]] + around[t[1]] + around[t[2]];
     const double m = mean.Norm();
-    if (!(m > 0 && std::isfinite(m)))
+    if (!(maxTurnDeg < 90) || !(m > 0 && std::isfinite(m)))
       normal[f] = own ? a / len : Vec3(0, 0, 0);
     else if (!own)
       normal[f] = mean / m;

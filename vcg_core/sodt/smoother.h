@@ -89,8 +89,8 @@ struct SodtSmoother {
     // The input orientation of every face (flips merge the flipped pair's):
     // the guards and keepBest test faces against it, and the returned
     // state's largest face turn is measured from it.
-    std::vector<Vec3> faceNormal =
-        faceNormals(w.faces, w.pos, p.guard != Guard::None ? p.maxFaceTurnDeg : 90.0);
+    const double turnCos2 = runTurnCos2(p);
+    std::vector<Vec3> faceNormal = faceNormals(w.faces, w.pos, turnCos2 > 0 ? p.maxFaceTurnDeg : 90.0);
     const std::vector<Vec3> none;
     const std::vector<Vec3>& guardNormal = p.guard != Guard::None || p.keepBest ? faceNormal : none;
     const std::vector<FittedFrame> fit =
@@ -109,8 +109,8 @@ struct SodtSmoother {
       flipRules.creaseDir = &cls.creaseDir;
     }
     flipRules.input = input.get();  // flips must keep the bound too
-    flipRules.keepTurn = p.guard != Guard::None;  // and the face turn
-    flipRules.maxTurnCos2 = faceTurnCos2(p.maxFaceTurnDeg);
+    flipRules.keepTurn = turnCos2 > 0;  // and the face turn bound
+    flipRules.maxTurnCos2 = turnCos2;
     BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, guardNormal, threads, tuning.simd);
 
     Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, guardNormal, active, threads, tuning);

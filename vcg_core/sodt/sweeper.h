@@ -245,7 +245,7 @@ class Sweeper {
 
   void reserveScratch() {
     for (int i : active_) maxValence_ = std::max(maxValence_, topo_.ringSize(i));
-    const double turn = p_.guard != Guard::None ? faceTurnCos2(p_.maxFaceTurnDeg) : 0.0;
+    const double turn = runTurnCos2(p_);
     for (Scratch& s : scratch_) {
       s.reserve(maxValence_);
       s.star.maxTurnCos2 = turn;  // the same for every star of the run
@@ -288,7 +288,7 @@ class Sweeper {
     if (lanePrepare_) {
       laneGuardInput_.faceNormal = faceNormal_.empty() ? nullptr : &faceNormal_[0][0];
       laneGuardInput_.quality = p_.guard == Guard::Quality;
-      laneGuardInput_.maxTurnCos2 = faceTurnCos2(p_.maxFaceTurnDeg);
+      laneGuardInput_.maxTurnCos2 = runTurnCos2(p_);
       laneGuardInput_.roundToFloat = std::is_same<Scalar, float>::value;
     }
     if (useLanes_) lanePlan_ = planLanes(plan_, topo_, laneable_, laneGuard_);
