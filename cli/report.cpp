@@ -253,6 +253,9 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
   else
     std::printf("  distance       Hausdorff %.3e, mean %.3e (relative to the input's bbox diagonal)\n",
                 dist.hausdorff, dist.mean);
+  std::printf("  face turn      at most %.3f deg from the input orientation (bound %s deg%s)\n", st.maxFaceTurnDeg,
+              numberText(o.params.maxFaceTurnDeg).c_str(),
+              o.params.guard == sodt::Guard::None || o.params.algorithm == sodt::Algorithm::Denoise ? ", unused" : "");
   if (inverted >= 0)
     std::printf("  inverted       %lld faces turned by more than 90 deg\n", inverted);
   else
@@ -338,6 +341,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
           : Json(nullptr);
   writeDistance(j, dist);
   j["inverted_faces"] = inverted >= 0 ? Json(inverted) : Json(nullptr);
+  j["max_face_turn_deg"] = number(st.maxFaceTurnDeg);
   j["moved"] = st.moved;
   j["backtracked"] = st.backtracked;
   j["fallback_moves"] = st.fallbackMoves;

@@ -75,6 +75,19 @@ int plainFlipPass(sodt::FaceList& faces, const std::vector<sodt::Vec3>& pos, con
   const auto feature = [&rules](int v) {
     return rules.cls && ((*rules.cls)[v] == sodt::VertexClass::Crease || (*rules.cls)[v] == sodt::VertexClass::Corner);
   };
+  // Along a crease: both ends feature vertices, and within 30 degrees of the
+  // direction of a crease end (undirected); corner-corner edges always.
+  const auto alongCrease = [&](int a, int b) {
+    if (!feature(a) || !feature(b)) return false;
+    if (!rules.creaseDir) return true;
+    bool along = (*rules.cls)[a] == sodt::VertexClass::Corner && (*rules.cls)[b] == sodt::VertexClass::Corner;
+    for (int v : {a, b}) {
+      if ((*rules.cls)[v] != sodt::VertexClass::Crease) continue;
+      const double deg = sodt::angleBetween(pos[b] - pos[a], (*rules.creaseDir)[v]) * sodt::kRadToDeg;
+      along = along || std::min(deg, 180 - deg) <= 30 || (*rules.creaseDir)[v].SquaredNorm() == 0;
+    }
+    return along;
+  };
   std::vector<char> touched(faces.tri.size(), 0);
   std::set<std::pair<int, int>> made;
   int flips = 0;
@@ -86,7 +99,7 @@ int plainFlipPass(sodt::FaceList& faces, const std::vector<sodt::Vec3>& pos, con
     const int c = third(f1, a, b), d = third(f2, a, b);
     if (c < 0 || d < 0 || c == d) continue;
     if (count(c, d) || count(d, c) || made.count({std::min(c, d), std::max(c, d)})) continue;
-    if (feature(a) && feature(b)) continue;
+    if (alongCrease(a, b)) continue;
     const sodt::Vec3 n1 = sodt::doubleAreaVector(pos[a], pos[b], pos[c]);
     const sodt::Vec3 n2 = sodt::doubleAreaVector(pos[b], pos[a], pos[d]);
     const double l1 = n1.Norm(), l2 = n2.Norm();
@@ -153,11 +166,19 @@ TEST(Flips, FlipPassFlipsWhatThePlainPassFlips) {
     sodt::FaceList fl = flipGrid(24, lattice ? 0.5 : 0.45, lattice ? 0.25 : 0.0, seed, pos);
     std::mt19937 g(seed * 7919);
     std::vector<sodt::VertexClass> cls(pos.size(), sodt::VertexClass::Smooth);
+    std::vector<sodt::Vec3> dir(pos.size(), sodt::Vec3(0, 0, 0));
     sodt::FlipRules rules;
     if (seed % 2 == 0) {
+      // Many feature vertices, some neighbours, with directions along the
+      // grid lines, its diagonals or anywhere in the plane.
       for (auto& c : cls)
-        if (g() % 5 == 0) c = g() & 1 ? sodt::VertexClass::Crease : sodt::VertexClass::Corner;
+        if (g() % 3 == 0) c = g() % 4 ? sodt::VertexClass::Crease : sodt::VertexClass::Corner;
       rules.cls = &cls;
+      for (auto& d : dir) {
+        const double t = g() % 3 ? (g() % 8) * sodt::kPi / 4 : sodt_test::uniform(g, 0, 2 * sodt::kPi);
+        d = sodt::Vec3(std::cos(t), std::sin(t), 0);
+      }
+      if (seed % 4 == 0) rules.creaseDir = &dir;
     }
     if (seed % 4 == 1) {
       for (std::size_t f = 0; f < fl.tri.size(); ++f) fl.flippable[f] = g() % 7 != 0;
@@ -170,6 +191,7 @@ TEST(Flips, FlipPassFlipsWhatThePlainPassFlips) {
       fl.live.resize(fl.tri.size(), 1);
       fl.flippable.resize(fl.tri.size(), 1);
       cls.resize(pos.size(), sodt::VertexClass::Smooth);
+      dir.resize(pos.size(), sodt::Vec3(0, 0, 0));
     }
     if (seed % 5 == 0) rules.maxDihedralRad = 60 * sodt::kPi / 180;
     sodt::FaceList plain = fl;
@@ -263,6 +285,89 @@ TEST(Flips, FlipPassImprovesAPlanarPairAndRefusesAFold) {
   std::vector<sodt::Vec3> bent = pos;
   bent[3][2] = 1.0;  // 45 degrees out of the plane
   EXPECT_EQ(sodt::flipPass(fl, bent, sodt::FlipRules{}), 0);
+}
+
+TEST(Flips, FeatureEdgeAlongACreaseNeverFlips) {
+  // The sliver pair of FlipPassImprovesAPlanarPair, its edge a-b (along x)
+  // between two crease vertices: kept when the crease runs along x at
+  // either end, or when both ends are corners, whatever the flip gains.
+  const std::vector<sodt::Vec3> pos{{0, 0, 0}, {1, 0, 0}, {0.5, 0.05, 0}, {0.5, -1, 0}};
+  const sodt::Vec3 alongX(1, 0, 0), acrossX(0, 1, 0), tilted(std::cos(0.4), std::sin(0.4), 0);  // 23 degrees
+  using VC = sodt::VertexClass;
+  struct Case {
+    VC ca, cb;
+    sodt::Vec3 da, db;
+    int flips;
+  };
+  const Case cases[] = {
+      {VC::Crease, VC::Crease, alongX, alongX, 0},  {VC::Crease, VC::Crease, tilted, acrossX, 0},
+      {VC::Crease, VC::Crease, acrossX, alongX, 0}, {VC::Corner, VC::Corner, acrossX, acrossX, 0},
+      {VC::Corner, VC::Crease, acrossX, alongX, 0}, {VC::Crease, VC::Crease, acrossX, acrossX, 1},
+      {VC::Corner, VC::Crease, alongX, acrossX, 1}, {VC::Smooth, VC::Crease, alongX, alongX, 1},
+  };
+  for (const Case& c : cases) {
+    sodt::FaceList fl;
+    fl.tri = {{{0, 1, 2}}, {{1, 0, 3}}};
+    fl.live = {1, 1};
+    fl.flippable = {1, 1};
+    const std::vector<VC> cls{c.ca, c.cb, VC::Smooth, VC::Smooth};
+    const std::vector<sodt::Vec3> dir{c.da, c.db, alongX, alongX};
+    sodt::FlipRules rules;
+    rules.cls = &cls;
+    rules.creaseDir = &dir;
+    EXPECT_EQ(sodt::flipPass(fl, pos, rules), c.flips) << int(c.ca) << int(c.cb) << " " << c.da[0] << " " << c.db[0];
+  }
+}
+
+TEST(Flips, FlatEdgeBetweenTwoCreaseLinesFlips) {
+  // A flat strip between two crease lines along x (y = 0 and y = 1), as on
+  // a CAD part: the edge a-b from one line to the other, 34 degrees off
+  // both lines' direction, is no feature edge, and flipping it raises the
+  // pair's smallest angle from 11 to 18 degrees.
+  const std::vector<sodt::Vec3> pos{{0, 0, 0}, {1.5, 1, 0}, {0.5, 0, 0}, {-0.5, 1, 0}};  // a, b, c, d
+  sodt::FaceList fl;
+  fl.tri = {{{0, 1, 2}}, {{1, 0, 3}}};
+  fl.live = {1, 1};
+  fl.flippable = {1, 1};
+  const double before = sodt::pairMinAngle(pos[0], pos[1], pos[2], pos[1], pos[0], pos[3]);
+  const std::vector<sodt::VertexClass> cls(4, sodt::VertexClass::Crease);
+  const std::vector<sodt::Vec3> dir(4, sodt::Vec3(1, 0, 0));
+  sodt::FlipRules rules;
+  rules.cls = &cls;
+  rules.creaseDir = &dir;
+  ASSERT_EQ(sodt::flipPass(fl, pos, rules), 1);
+  EXPECT_EQ(fl.tri[0], (std::array<int, 3>{{0, 3, 2}}));
+  EXPECT_EQ(fl.tri[1], (std::array<int, 3>{{3, 1, 2}}));
+  const double after = sodt::pairMinAngle(pos[0], pos[3], pos[2], pos[3], pos[1], pos[2]);
+  EXPECT_GT(after, before + 5 * sodt::kPi / 180);
+}
+
+TEST(Flips, NewFacesKeepTheFaceTurnBound) {
+  // The sliver pair of FlipPassImprovesAPlanarPair, with input normals
+  // tilted 35 degrees about x: the new faces (normal +z) would lie 35
+  // degrees from the merged input normal. A 40-degree bound lets the flip
+  // happen, a 30-degree one refuses it, and without the turn guard
+  // (Guard::None) it happens; a flip gives both new faces the merged normal.
+  const std::vector<sodt::Vec3> pos{{0, 0, 0}, {1, 0, 0}, {0.5, 0.05, 0}, {0.5, -1, 0}};
+  const double t = 35 * sodt::kPi / 180;
+  for (double boundDeg : {40.0, 30.0}) {
+    for (bool keepTurn : {true, false}) {
+      sodt::FaceList fl;
+      fl.tri = {{{0, 1, 2}}, {{1, 0, 3}}};
+      fl.live = {1, 1};
+      fl.flippable = {1, 1};
+      std::vector<sodt::Vec3> ref{sodt::Vec3(0, -std::sin(t), std::cos(t)), sodt::Vec3(0, -std::sin(t), std::cos(t))};
+      sodt::FlipRules rules;
+      rules.keepTurn = keepTurn;
+      rules.maxTurnCos2 = sodt::faceTurnCos2(boundDeg);
+      const int want = keepTurn && boundDeg < 35 ? 0 : 1;
+      EXPECT_EQ(sodt::flipPass(fl, pos, rules, &ref), want) << boundDeg << " " << keepTurn;
+      if (want == 1) {
+        EXPECT_NEAR(ref[0][1], -std::sin(t), 1e-12);
+        EXPECT_EQ(ref[0], ref[1]);
+      }
+    }
+  }
 }
 
 TEST(Flips, KeepVertexCountManifoldnessAndOrientation) {

@@ -210,13 +210,16 @@ TEST(Lanes, FullStepVerdictMatchesTheScalarGuardBitForBit) {
   if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
   using sodt_test::uniform;
   std::mt19937 g(9090);
-  int mismatches = 0, allowed = 0, refused = 0, undecided = 0, laterFirst = 0;
+  int mismatches = 0, allowed = 0, refused = 0, undecided = 0, laterFirst = 0, turnedOnly = 0;
   for (int trial = 0; trial < 24000; ++trial) {
     const int n = 3 + trial % (sodt::lanes::kMaxValence - 2);
     sodt::lanes::GuardInput in;
     in.quality = trial / 3 % 2 == 0;
     in.roundToFloat = trial / 6 % 2 == 0;
     const bool withRef = trial / 12 % 4 != 0;
+    // The largest face turn: 90 degrees (the fold test alone), 40 or 10.
+    const double turnDeg[3] = {90, 40, 10};
+    in.maxTurnCos2 = sodt::faceTurnCos2(turnDeg[trial / 48 % 3]);
     std::vector<Vec3> pos, faceNormal;
     std::vector<int> ringIdx, ringFace, begin, centre;
     std::vector<sodt::Star> stars(sodt::lanes::kWidth);
@@ -281,6 +284,7 @@ TEST(Lanes, FullStepVerdictMatchesTheScalarGuardBitForBit) {
       pos.insert(pos.end(), pts.begin(), pts.end());
       stars[l].center = pts[0];
       stars[l].ring.assign(pts.begin() + 1, pts.end());
+      stars[l].maxTurnCos2 = in.maxTurnCos2;
       if (withRef)
         for (int k = 0; k < n; ++k) stars[l].refNormal.push_back(faceNormal[ringFace[begin[l] + k]]);
     }
@@ -326,6 +330,11 @@ TEST(Lanes, FullStepVerdictMatchesTheScalarGuardBitForBit) {
       const bool decided = sodt::isFinite(y) && !(y == st.center);
       int first = 0;
       const bool pass = sodt::moveAllowed(st, y, cur, ee, in.quality, limit, &first);
+      if (decided && !pass && withRef && in.maxTurnCos2 > 0) {
+        sodt::Star foldOnly = st;
+        foldOnly.maxTurnCos2 = 0;
+        turnedOnly += sodt::moveAllowed(foldOnly, y, cur, ee, in.quality, limit);
+      }
       const bool same = decided ? a == pass && r == !pass && (pass || v.first[l] == first) && sameBits(v.x[l], y[0]) &&
                                       sameBits(v.y[l], y[1]) && sameBits(v.z[l], y[2])
                                 : !a && !r;
@@ -345,13 +354,14 @@ TEST(Lanes, FullStepVerdictMatchesTheScalarGuardBitForBit) {
   EXPECT_GT(refused, 10000);
   EXPECT_GT(undecided, 1000);
   EXPECT_GT(laterFirst, 3000);
+  EXPECT_GT(turnedOnly, 500);  // refused for the face turn alone
 }
 
 TEST(Lanes, StepLengthsTestedAtOnceMatchTheScalarGuard) {
   if (!sodt::lanes::available()) GTEST_SKIP() << "no AVX2 kernel in this build or on this processor";
   using sodt_test::uniform;
   std::mt19937 g(4711);
-  int mismatches = 0, allowed = 0, refused = 0, mixed = 0, badWitness = 0;
+  int mismatches = 0, allowed = 0, refused = 0, mixed = 0, badWitness = 0, turnedOnly = 0;
   for (int trial = 0; trial < 60000; ++trial) {
     // Any valence: the test of step lengths is not limited to the kernel's.
     const int n = 3 + trial % 14;
@@ -359,6 +369,8 @@ TEST(Lanes, StepLengthsTestedAtOnceMatchTheScalarGuard) {
     const Kind kind = g() % 4 ? Kind::Jittered : static_cast<Kind>(g() % static_cast<unsigned>(Kind::Count));
     const std::vector<Vec3> pts = makeStar(kind, n, g);
     sodt::Star st;
+    const double turnDeg[3] = {90, 40, 10};  // the largest face turn
+    st.maxTurnCos2 = sodt::faceTurnCos2(turnDeg[trial / 12 % 3]);
     st.center = pts[0];
     st.ring.assign(pts.begin() + 1, pts.end());
     if (withRef) {
@@ -391,10 +403,16 @@ TEST(Lanes, StepLengthsTestedAtOnceMatchTheScalarGuard) {
       for (int l = 0; l < count; ++l) y[l] = sodt::roundedTo<float>(y[l]);
     int witness = static_cast<int>(g() % static_cast<unsigned>(n + 3)) - 1;  // out of range too
     const Vec3* ref = withRef ? st.refNormal.data() : nullptr;
-    const int pass = sodt::lanes::allowedAt(st.ring.data(), n, cur.data(), ee.data(), ref, quality, limit, y, count,
-                                            &witness);
+    const int pass = sodt::lanes::allowedAt(st.ring.data(), n, cur.data(), ee.data(), ref, st.maxTurnCos2, quality,
+                                            limit, y, count, &witness);
     int expected = 0;
     for (int l = 0; l < count; ++l) expected |= sodt::moveAllowed(st, y[l], cur, ee, quality, limit) ? 1 << l : 0;
+    if (withRef && st.maxTurnCos2 > 0) {
+      sodt::Star foldOnly = st;
+      foldOnly.maxTurnCos2 = 0;
+      for (int l = 0; l < count; ++l)
+        turnedOnly += !(expected >> l & 1) && sodt::moveAllowed(foldOnly, y[l], cur, ee, quality, limit);
+    }
     if (pass != expected && ++mismatches <= 5)
       ADD_FAILURE() << "trial " << trial << ": lanes " << pass << ", scalar " << expected << " of " << count;
     if (expected != (1 << count) - 1) {
@@ -419,6 +437,7 @@ TEST(Lanes, StepLengthsTestedAtOnceMatchTheScalarGuard) {
   EXPECT_GT(allowed, 10000);
   EXPECT_GT(refused, 10000);
   EXPECT_GT(mixed, 1000) << allowed << " allowed, " << refused << " refused";
+  EXPECT_GT(turnedOnly, 1000);  // refused for the face turn alone
 }
 
 namespace {

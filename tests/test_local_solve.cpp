@@ -224,6 +224,41 @@ TEST(Guards, FoldedPositionsAreRejected) {
   }
 }
 
+TEST(Guards, FacesMayNotTurnBeyondTheBoundFromTheirInputNormal) {
+  // A flat regular hexagon with input normals +z: lifting the centre by h
+  // tilts every triangle by atan(h / cos 30), 27.5 degrees for h = 0.45 and
+  // 32.4 for h = 0.55. With a 30-degree bound the first is allowed and the
+  // second refused; with none (90 degrees) both are, and a turned-over
+  // triangle is refused either way.
+  Star st;
+  for (int k = 0; k < 6; ++k)
+    st.ring.emplace_back(std::cos(sodt::kPi * k / 3), std::sin(sodt::kPi * k / 3), 0);
+  st.center = Vec3(0, 0, 0);
+  st.refNormal.assign(6, Vec3(0, 0, 1));
+  const Vec3 n(0, 0, 1);
+  EXPECT_EQ(sodt::faceTurnCos2(90), 0.0);
+  EXPECT_EQ(sodt::faceTurnCos2(120), 0.0);
+  st.maxTurnCos2 = sodt::faceTurnCos2(30);
+  EXPECT_FALSE(sodt::moveFolds(st, Vec3(0, 0, 0.45), n));
+  EXPECT_TRUE(sodt::moveFolds(st, Vec3(0, 0, 0.55), n));
+  EXPECT_TRUE(sodt::moveFolds(st, Vec3(0, 0, -0.55), n));
+  st.maxTurnCos2 = 0;
+  EXPECT_FALSE(sodt::moveFolds(st, Vec3(0, 0, 0.55), n));
+  EXPECT_FALSE(sodt::moveFolds(st, Vec3(0, 0, 20), n));
+  // A zero input normal (a face without one) bounds nothing.
+  st.maxTurnCos2 = sodt::faceTurnCos2(30);
+  st.refNormal.assign(6, Vec3(0, 0, 0));
+  EXPECT_FALSE(sodt::moveFolds(st, Vec3(0, 0, 0.55), n));
+  // turnsBeyond is the angle test itself, for any length of the area vector.
+  std::mt19937 g(77);
+  for (int j = 0; j < 10000; ++j) {
+    const Vec3 a(sodt_test::uniform(g, -1, 1), sodt_test::uniform(g, -1, 1), sodt_test::uniform(g, -1, 1));
+    const double deg = sodt_test::uniform(g, 1, 89), turn = sodt::angleBetween(a, n) * sodt::kRadToDeg;
+    if (std::abs(turn - deg) < 1e-6) continue;
+    EXPECT_EQ(sodt::turnsBeyond(a * 1e-3, n, sodt::faceTurnCos2(deg)), turn > deg) << turn << " " << deg;
+  }
+}
+
 TEST(Guards, QualityMeasureIsTheStarsSmallestAngle) {
   Star st;
   for (int k = 0; k < 6; ++k)

@@ -312,7 +312,10 @@ TEST(Smoother, TheSameResultAtEverySizeItAcceptsAndAClearRefusalBeyond) {
     // there.)
     EXPECT_NEAR(sodt::computeAngleStats(m).minDeg, refMin, 1e-6);
     EXPECT_NEAR(sodt::computeAngleStats(m).fracBelow30, refBelow30, 0.01);
-    EXPECT_LT(sodt::hausdorffRel(m, input), 0.003);
+    // The symmetric distance is not bounded by the one-way deviation guard
+    // (0.1%): 0.27% with the fold test alone, 0.34% with the default face
+    // turn bound, which keeps this folded input's faces from turning as far.
+    EXPECT_LT(sodt::hausdorffRel(m, input), 0.004);
   }
   for (const double d : {sodt::kMinMeshSize / 2, sodt::kMaxMeshSize * 2}) {
     sodt::MeshD m;

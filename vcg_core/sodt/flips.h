@@ -5,6 +5,7 @@
 
 #include "deviation.h"
 #include "geometry.h"
+#include "local_solve.h"
 #include "params.h"
 #include "topology.h"
 
@@ -23,15 +24,33 @@ inline double pairMinAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Ve
   return std::min(triangleMinAngle(a, b, c), triangleMinAngle(d, e, f));
 }
 
+/// An edge between two feature vertices runs along the crease when it lies
+/// within this angle of the crease direction e3 of a crease end: wide enough
+/// for the zigzag of a crease across a coarse mesh, narrow enough to let
+/// the slivers that cross a flat face from one feature line to another flip.
+constexpr double kCreaseEdgeMaxDeg = 30.0;
+
 /// Options of a flip pass.
 struct FlipRules {
   /// Only flip edges whose faces' normals differ by less (default: SodtParams).
   double maxDihedralRad = SodtParams{}.flipMaxDihedralDeg * kPi / 180.0;
-  const std::vector<VertexClass>* cls = nullptr;  ///< feature edges (both ends crease/corner) are kept
+  /// Per vertex, may be null: with it, the feature edges along creases are
+  /// kept (see featureEdge).
+  const std::vector<VertexClass>* cls = nullptr;
+  /// Per vertex, the unit crease direction e3 of the Crease vertices of cls
+  /// (Classification::creaseDir). Null: every edge between two crease or
+  /// corner vertices counts as a feature edge.
+  const std::vector<Vec3>* creaseDir = nullptr;
   double minGainRad = 1e-9;                       ///< a flip must raise the pair's min angle by more
   /// Deviation guard (may be null): the new edge and faces must stay within
   /// the bound of the input surface, like the vertex moves.
   const InputSurface* input = nullptr;
+  /// Turn guard (with a refNormal): each new face must keep within the
+  /// angle of maxTurnCos2 (Star::maxTurnCos2; 0: 90 degrees) of the pair's
+  /// merged input normal, which it takes as its own, like a moved face of
+  /// its input normal. Off without a bound (Guard::None, Denoise, 90 degrees).
+  bool keepTurn = false;
+  double maxTurnCos2 = 0;
 };
 
 /// True when the surface made by flipping a-b into c-d stays within input's
@@ -58,6 +77,35 @@ inline bool flipKeepsInput(const InputSurface& in, const std::vector<Vec3>& pos,
     if (!ok) return false;
   }
   return true;
+}
+
+/// True when the edge a-b runs along a crease, as classified: both ends
+/// are crease or corner vertices, and the edge lies within
+/// kCreaseEdgeMaxDeg of the crease direction of a crease end (of either:
+/// near a corner or where two creases meet, one end following its crease
+/// is enough to keep the edge, the safe side). A corner
+/// has no direction, so an edge between two corners always counts (with
+/// no way to tell the feature edge that joins two corners from one across
+/// a face, it is kept, as flips always did); a corner-crease edge counts
+/// when it follows the crease end. A crease end without a direction (zero
+/// e3, or no creaseDir at all) and a zero-length edge count too.
+inline bool featureEdge(const FlipRules& rules, const std::vector<Vec3>& pos, int a, int b) {
+  if (!rules.cls) return false;
+  const VertexClass ca = (*rules.cls)[a], cb = (*rules.cls)[b];
+  const auto feature = [](VertexClass c) { return c == VertexClass::Crease || c == VertexClass::Corner; };
+  if (!feature(ca) || !feature(cb)) return false;
+  if (!rules.creaseDir || (ca == VertexClass::Corner && cb == VertexClass::Corner)) return true;
+  const double c = std::cos(kCreaseEdgeMaxDeg * kPi / 180.0);
+  const Vec3 e = pos[b] - pos[a];
+  const double ee = e.SquaredNorm();
+  for (int v : {a, b}) {
+    if ((*rules.cls)[v] != VertexClass::Crease) continue;
+    const Vec3& dir = (*rules.creaseDir)[v];
+    const double ed = e * dir;
+    // |cos(e, dir)| >= c, without a square root; true for e or dir zero.
+    if (ed * ed >= c * c * ee * dir.SquaredNorm()) return true;
+  }
+  return false;
 }
 
 namespace detail {
@@ -96,13 +144,16 @@ inline bool flipCannotGain(const Vec3& a, const Vec3& b, const Vec3& c, const Ve
 /// (b, a, d) becomes c-d, with faces (a, d, c) and (d, b, c), when
 /// - both faces are live and flippable, c != d, and the edge c-d does not exist;
 /// - the faces' normals differ by less than rules.maxDihedralRad;
-/// - a and b are not both crease/corner vertices (a feature edge);
+/// - a-b is not a feature edge along a crease (featureEdge);
 /// - both new faces keep the orientation of the pair (no fold);
+/// - with rules.keepTurn and a refNormal, both new faces keep within the
+///   turn of rules.maxTurnCos2 of the merged input normal (see below);
 /// - the smallest angle of the pair grows by more than rules.minGainRad.
 /// Edges are taken in the order of (a, b) with a < b, and what a flip changes
 /// (the two faces it made, the edge c-d it made) is seen by the edges after
 /// it in the same pass: the flips of a pass depend on that order.
-/// refNormal (per face, may be empty) is updated for the two new faces.
+/// refNormal (per face, may be empty) is updated for the two new faces: both
+/// get the normalised sum of the two old faces' (zero when it vanishes).
 /// flipped (may be null) gets a, b, c, d of every flip appended.
 ///
 /// seed (per vertex, may be null) limits the pass to the edges with a seed
@@ -155,11 +206,6 @@ inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRul
     const auto r = range(a, b);
     return r.first != r.second;
   };
-  auto isFeature = [&rules](int v) {
-    if (!rules.cls) return false;
-    const VertexClass c = (*rules.cls)[v];
-    return c == VertexClass::Crease || c == VertexClass::Corner;
-  };
   auto third = [&faces](int f, int a, int b) {
     for (int v : faces.tri[f])
       if (v != a && v != b) return v;
@@ -196,18 +242,25 @@ inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRul
       const double after = pairMinAngle(pa, pd, pc, pd, pb, pc);
       if (!(after > before + rules.minGainRad)) continue;
       if (exists(c, d) || exists(d, c) || created.count({std::min(c, d), std::max(c, d)})) continue;
-      if (isFeature(a) && isFeature(b)) continue;
+      if (featureEdge(rules, pos, a, b)) continue;
       if (rules.input && !flipKeepsInput(*rules.input, pos, a, b, c, d)) continue;
+      const bool haveRef = refNormal && !refNormal->empty();
+      Vec3 merged(0, 0, 0);
+      if (haveRef) {
+        merged = (*refNormal)[f1] + (*refNormal)[f2];
+        const double len = merged.Norm();
+        merged = len > 0 ? merged / len : Vec3(0, 0, 0);
+        // The moves' guard tests every face against its input normal: a
+        // new face beyond the bound would freeze its vertices.
+        if (rules.keepTurn &&
+            (turnsBeyond(m1, merged, rules.maxTurnCos2) || turnsBeyond(m2, merged, rules.maxTurnCos2)))
+          continue;
+      }
       faces.tri[f1] = {a, d, c};
       faces.tri[f2] = {d, b, c};
       touched[f1] = touched[f2] = 1;
       created.insert({std::min(c, d), std::max(c, d)});
-      if (refNormal && !refNormal->empty()) {
-        Vec3 r = (*refNormal)[f1] + (*refNormal)[f2];
-        const double len = r.Norm();
-        r = len > 0 ? r / len : Vec3(0, 0, 0);
-        (*refNormal)[f1] = (*refNormal)[f2] = r;
-      }
+      if (haveRef) (*refNormal)[f1] = (*refNormal)[f2] = merged;
       if (flipped) flipped->insert(flipped->end(), {a, b, c, d});
       ++flips;
     }

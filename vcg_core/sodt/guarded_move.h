@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // One vertex visit: the proposed move (moves.h) taken, shortened by halvings
 // or replaced by its Laplacian fallback, only where the guard allows it: no
-// face folds, collapses or turns against its input orientation (Guard::Fold),
+// face folds, collapses or turns against its input orientation or further
+// from it than SodtParams::maxFaceTurnDeg (Guard::Fold),
 // no smallest angle of the star shrinks (Guard::Quality), the vertex stays
 // within reach of its star, and within the deviation bound of the input
 // surface (deviation.h).
@@ -18,6 +19,14 @@
 #include <vector>
 
 namespace sodt {
+
+/// The squared cosine of the largest face turn the run's guard allows
+/// (faceTurnCos2 of SodtParams::maxFaceTurnDeg): 0, the fold test alone,
+/// with Guard::None and for Denoise, whose moves exist to turn noisy faces
+/// into the surface (it has no deviation bound either).
+inline double runTurnCos2(const SodtParams& p) {
+  return p.guard == Guard::None || p.algorithm == Algorithm::Denoise ? 0.0 : faceTurnCos2(p.maxFaceTurnDeg);
+}
 
 /// How one vertex visit ended.
 enum class Outcome : unsigned char { Moved, Backtracked, Fallback, Rejected, Unchanged, Failed };
@@ -208,7 +217,7 @@ struct GuardedMove {
       } else if (m > 1) {
         pass = lanes::allowedAt(star.ring.data(), static_cast<int>(star.size()), s.foldRef.data(),
                                 s.ringEdge2.data(), star.refNormal.size() == star.size() ? star.refNormal.data() : nullptr,
-                                quality, minAngleCos2Before, y, m, &witness);
+                                star.maxTurnCos2, quality, minAngleCos2Before, y, m, &witness);
       }
       for (int l = 0; l < m; ++l) {
         if (!(pass >> l & 1)) continue;

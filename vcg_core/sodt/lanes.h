@@ -58,6 +58,8 @@ struct GuardInput {
   /// x, y, z doubles per face: the input normals the fold test keeps every
   /// triangle within 90 degrees of (Star::refNormal), or null for none.
   const double* faceNormal = nullptr;
+  /// With faceNormal: the largest turn from it allowed, as Star::maxTurnCos2.
+  double maxTurnCos2 = 0;
   bool quality = false;       ///< the smallest-angle test as well as the fold test
   bool roundToFloat = false;  ///< the mesh stores float coordinates
 };
@@ -208,17 +210,24 @@ SODT_LANES_TARGET inline __m256d cos2(__m256d dot, __m256d den) {
 /// moveAllowed's test of star triangle k with the centre at y: u and w
 /// are its ring vertices k and k + 1 less y, uu and ww their squared
 /// lengths, ee that of the ring edge between them, cur the triangle's fold
-/// reference, ref its input normal (or null), limit the angle limit.
+/// reference, ref its input normal (or null) and turn the squared cosine
+/// of the largest turn from it (Star::maxTurnCos2), limit the angle limit.
 /// All-ones in the lanes where the triangle passes.
 SODT_LANES_TARGET inline __m256d triangleAllowed(const V3& u, const V3& w, __m256d uu, __m256d ww, __m256d ee,
-                                                 const V3& cur, const V3* ref, bool quality, __m256d limit) {
+                                                 const V3& cur, const V3* ref, __m256d turn, bool quality,
+                                                 __m256d limit) {
   const __m256d zero = _mm256_setzero_pd();
   const V3 next = cross(u, w);
+  const __m256d nn = dot(next, next);
   __m256d good = _mm256_cmp_pd(dot(next, cur), zero, _CMP_GT_OQ);
-  if (ref) good = _mm256_andnot_pd(_mm256_cmp_pd(dot(next, *ref), zero, _CMP_LT_OQ), good);
+  if (ref) {
+    // turnsBeyond (local_solve.h): d < 0 || d * d < turn * |next|^2 * |ref|^2.
+    const __m256d d = dot(next, *ref);
+    const __m256d far = _mm256_cmp_pd(mul(d, d), mul(mul(turn, nn), dot(*ref, *ref)), _CMP_LT_OQ);
+    good = _mm256_andnot_pd(_mm256_or_pd(_mm256_cmp_pd(d, zero, _CMP_LT_OQ), far), good);
+  }
   const __m256d l2 = max3(uu, ww, ee);
-  good = _mm256_and_pd(good, _mm256_cmp_pd(dot(next, next), mul(mul(_mm256_set1_pd(kCollapse * kCollapse), l2), l2),
-                                           _CMP_GT_OQ));
+  good = _mm256_and_pd(good, _mm256_cmp_pd(nn, mul(mul(_mm256_set1_pd(kCollapse * kCollapse), l2), l2), _CMP_GT_OQ));
   if (quality) {
     // The smallest angle is opposite the shortest edge.
     const __m256d uw = dot(u, w);
@@ -301,7 +310,8 @@ SODT_LANES_TARGET inline void guardN(const V3& c, const V3* P, const V3* X, cons
     const V3 w = sub(P[k + 1 < n ? k + 1 : 0], y);
     const __m256d ww = dot(w, w);
     const V3 r = in.faceNormal ? gather(in.faceNormal, faceRows + kWidth * k) : V3{zero, zero, zero};
-    const __m256d good = triangleAllowed(u, w, uu, ww, ee[k], cur[k], in.faceNormal ? &r : nullptr, in.quality, limit);
+    const __m256d good = triangleAllowed(u, w, uu, ww, ee[k], cur[k], in.faceNormal ? &r : nullptr,
+                                         _mm256_set1_pd(in.maxTurnCos2), in.quality, limit);
     first = pick(first, _mm256_set1_pd(k), _mm256_andnot_pd(good, pass));
     pass = _mm256_and_pd(pass, good);
     u = w;
@@ -539,17 +549,18 @@ SODT_LANES_TARGET inline void targets4(const double* pos, const int* table, int 
 /// centre of one star at once, one per lane: the star's ring (n points in
 /// cyclic order), its triangles' fold references cur and squared ring edges
 /// ringEdge2 (prepareGuard), input normals ref (Star::refNormal) or null for
-/// none, quality and cos2Limit as for moveAllowed. Returns bit l set when
+/// none and the largest turn from them maxTurnCos2 (Star::maxTurnCos2),
+/// quality and cos2Limit as for moveAllowed. Returns bit l set when
 /// moveAllowed accepts p[l], bit for bit. witness as for moveAllowed: the
 /// test starts at triangle *witness (the answer does not depend on it) and
 /// ends early once every position has failed; when one has, *witness gets a
 /// triangle that failed.
 SODT_LANES_TARGET inline int allowedAt(const Vec3* ring, int n, const Vec3* cur, const double* ringEdge2,
-                                       const Vec3* ref, bool quality, double cos2Limit, const Vec3* p, int count,
-                                       int* witness) {
+                                       const Vec3* ref, double maxTurnCos2, bool quality, double cos2Limit,
+                                       const Vec3* p, int count, int* witness) {
   using namespace detail;
   if (n == 0) return (1 << count) - 1;
-  const __m256d limit = _mm256_set1_pd(cos2Limit);
+  const __m256d limit = _mm256_set1_pd(cos2Limit), turn = _mm256_set1_pd(maxTurnCos2);
   const Vec3& last = p[count - 1];  // the spare lanes repeat the last position
   const V3 y = load4(&p[0][0], count > 1 ? &p[1][0] : &last[0], count > 2 ? &p[2][0] : &last[0],
                      count > 3 ? &p[3][0] : &last[0]);
@@ -565,7 +576,7 @@ SODT_LANES_TARGET inline int allowedAt(const Vec3* ring, int n, const Vec3* cur,
     const __m256d ww = dot(w, w);
     const V3 r = ref ? bcast(ref[k]) : V3();
     const __m256d good = triangleAllowed(u, w, uu, ww, _mm256_set1_pd(ringEdge2[k]), bcast(cur[k]), ref ? &r : nullptr,
-                                         quality, limit);
+                                         turn, quality, limit);
     if (firstFail < 0 && (_mm256_movemask_pd(good) & lanesUsed) != lanesUsed) firstFail = k;
     pass = _mm256_and_pd(pass, good);
     if ((_mm256_movemask_pd(pass) & lanesUsed) == 0) break;
@@ -622,8 +633,8 @@ inline void targets4(const double*, const int*, int, Targets& out, const GuardIn
 inline void faceKeys4(const double*, const int*, const double*, FaceKeys& out) {
   out = FaceKeys();  // never called: available() is false
 }
-inline int allowedAt(const Vec3*, int, const Vec3*, const double*, const Vec3*, bool, double, const Vec3*, int,
-                     int*) {
+inline int allowedAt(const Vec3*, int, const Vec3*, const double*, const Vec3*, double, bool, double, const Vec3*,
+                     int, int*) {
   return 0;
 }
 #endif

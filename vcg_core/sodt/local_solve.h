@@ -19,13 +19,38 @@ struct Star {
   std::vector<Vec3> ring;
   /// Optional unit normals of the star's triangles in the input mesh (zero
   /// for a triangle that was degenerate there); the fold guard keeps every
-  /// triangle within 90 degrees of these so that no face ends up inverted.
+  /// triangle within 90 degrees of these so that no face ends up inverted,
+  /// and within the angle of maxTurnCos2.
   std::vector<Vec3> refNormal;
+  /// Squared cosine of the largest turn from refNormal the guard allows
+  /// (faceTurnCos2 of SodtParams::maxFaceTurnDeg); 0 for 90 degrees.
+  double maxTurnCos2 = 0;
 
   std::size_t size() const { return ring.size(); }
   /// ring[k] for k in [0, 2 size()): the cyclic successor of the last entry is the first.
   const Vec3& at(std::size_t k) const { return ring[k < ring.size() ? k : k - ring.size()]; }
 };
+
+/// The squared cosine of a largest face turn of deg degrees, for
+/// turnsBeyond: 0 from 90 degrees on, where the test is the sign test of
+/// the fold guard alone, exactly (cos(90 deg) is not 0 in double).
+inline double faceTurnCos2(double deg) {
+  if (!(deg < 90)) return 0.0;
+  const double c = std::cos(deg * kPi / 180.0);
+  return c * c;
+}
+
+/// True when the area vector a of a triangle turns against ref (a unit
+/// normal, or zero for none) or by more than the angle whose squared cosine
+/// is maxTurnCos2 (faceTurnCos2): a.ref < 0, or (a.ref)^2 < maxTurnCos2
+/// |a|^2 |ref|^2 without a square root. Never true for a zero ref; with
+/// maxTurnCos2 = 0 the sign test alone. The AVX2 form
+/// (lanes::detail::triangleAllowed) computes the same products in the same
+/// order.
+inline bool turnsBeyond(const Vec3& a, const Vec3& ref, double maxTurnCos2) {
+  const double d = a * ref;
+  return d < 0 || d * d < maxTurnCos2 * a.SquaredNorm() * ref.SquaredNorm();
+}
 
 /// Result of the local solve.
 struct LocalMove {
@@ -310,7 +335,7 @@ inline bool moveAllowed(const Star& st, const Vec3& p, const std::vector<Vec3>& 
     const Vec3 w = st.ring[k1] - p;
     const double ww = w.SquaredNorm();
     const Vec3 next = u ^ w;  // doubled area vector of (p, a, b)
-    bool ok = next * cur[k] > 0 && !(haveRef && next * st.refNormal[k] < 0);
+    bool ok = next * cur[k] > 0 && !(haveRef && turnsBeyond(next, st.refNormal[k], st.maxTurnCos2));
     const double ee = ringEdge2[k];
     if (ok) {
       const double l2 = std::max({uu, ww, ee});
@@ -393,8 +418,9 @@ inline double prepareGuard(const Star& st, const Vec3& n, bool quality, std::vec
 /// triangle of the star. A triangle collapses when its area falls to rounding
 /// level relative to its longest edge; it flips when its area vector turns
 /// against the one it has now (or against the plane normal n, for a triangle
-/// that is degenerate now), or against its input normal st.refNormal[k].
-/// The fold test of moveAllowed alone, for a single position.
+/// that is degenerate now), or against its input normal st.refNormal[k] or
+/// further from it than st.maxTurnCos2 allows (turnsBeyond). The fold test
+/// of moveAllowed alone, for a single position.
 inline bool moveFolds(const Star& st, const Vec3& p, const Vec3& n) {
   std::vector<Vec3> cur;
   std::vector<double> ringEdge2;

@@ -118,6 +118,12 @@ struct SodtParams {
   /// neighbours share a colour), so the result is bit-identical for every
   /// thread count.
   int threads = 0;
+  /// Largest angle, in degrees (0..90], between a face's normal and its
+  /// input normal that a guarded move or a flip may leave (every guard but
+  /// Guard::None; not used by Denoise): faces that turn up to 90 degrees
+  /// pile up into edges far sharper than the input's; 90 is the fold test
+  /// alone.
+  double maxFaceTurnDeg = 40.0;
   /// Local repair after the sweeps (see repair.h): where a triangle's
   /// smallest angle is still below repairAngleDeg, collapse, flip and split
   /// edges and relax the changed neighbourhood. Changes the vertex set, so
@@ -200,6 +206,11 @@ struct SodtStats {
   /// measurements and progress callbacks between them), without the set-up
   /// before them and the write-back after.
   double sweepSeconds = 0;
+  /// Largest angle, in degrees, between a face's normal in the returned mesh
+  /// and its input normal (for a face made by a flip, the mean of the input
+  /// normals of the two faces it replaced); faces degenerate either way are
+  /// left out.
+  double maxFaceTurnDeg = 0;
   /// The repair's changes (SodtParams::repair): edges split, collapsed and
   /// flipped, vertices added and removed, S-ODT moves of the changed
   /// neighbourhoods, and the triangles left below the target.
@@ -443,6 +454,18 @@ struct ParamSpec {
 
 namespace detail {
 
+/// The face-turn bound's entry of paramTable().
+inline void faceTurnParam(ParamSpec& t) {
+  t.bind("maxFaceTurnDeg", &SodtParams::maxFaceTurnDeg).keys("maxFaceTurn", "max_face_turn")
+      .cli("--max-face-turn", "DEG").dialog("Max face turn (deg)").shownIn("degrees").range(0, 90, true)
+      .usedBy(kEveryAlgorithm & ~algorithmBit(Algorithm::Denoise))
+      .describe("largest angle between a face's normal and its input normal that a move or a flip may leave",
+                "Moves and flips that turn a face further are shortened or rejected like any guard veto, "
+                "so that faces do not pile up into edges sharper than the input's; 90 only rejects "
+                "folds. Unused by denoise, whose moves turn noisy faces into the surface, and with guard "
+                "none.");
+}
+
 /// The local repair's entries of paramTable().
 inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& feature) {
   repair.bind("repair", &SodtParams::repair).keys("repair", "repair").cli("--repair", nullptr)
@@ -471,7 +494,7 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& feature
 inline const std::vector<ParamSpec>& paramTable() {
   static const std::vector<ParamSpec> table = [] {
     const unsigned feature = algorithmBit(Algorithm::Feature), denoise = algorithmBit(Algorithm::Denoise);
-    std::vector<ParamSpec> t(18);
+    std::vector<ParamSpec> t(19);
     t[0].bind("algorithm", &SodtParams::algorithm).keys("algorithm", "algorithm").cli("--algorithm", "NAME")
         .dialog("Algorithm")
         .describe("vertex update rule")
@@ -501,8 +524,8 @@ inline const std::vector<ParamSpec>& paramTable() {
         .choose({{toString(Guard::None), "None (paper, literal)",
                   "commit every solved move, as the paper does (on poor input this can fold triangles)"},
                  {toString(Guard::Fold), "Fold",
-                  "reject a move that flips or collapses an incident triangle or turns it by more than 90 "
-                  "degrees from its input orientation"},
+                  "reject a move that flips or collapses an incident triangle or turns it by more than max "
+                  "face turn from its input orientation"},
                  {toString(Guard::Quality), "Quality",
                   "as fold, and the smallest angle of the vertex's one-ring may not decrease"}});
     t[3].bind("maxBacktracks", &SodtParams::maxBacktracks).keys("maxBacktracks", "max_backtracks")
@@ -554,7 +577,8 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "stay), which the paper keeps",
                   "After each sweep an interior edge is flipped only when its two triangles are nearly "
                   "coplanar (see flip max dihedral) and the smaller angle of the pair grows; never a "
-                  "crease edge of feature or denoise (both ends crease or corner vertices), never onto an "
+                  "crease edge of feature or denoise (both ends crease or corner vertices and the edge within "
+                  "30 degrees of the crease direction), never onto an "
                   "existing edge (which would make it non-manifold), never into a fold, and with selected "
                   "only never unless both faces are selected or have all their vertices selected. Lifts "
                   "the minimum angle further than moving vertices alone.");
@@ -581,7 +605,8 @@ inline const std::vector<ParamSpec>& paramTable() {
         .cli("--selected-only", nullptr).dialog("Affect only selection").onWithSelectionInPlugin()
         .describe("move only the selected vertices (the others stay fixed but still shape their "
                   "neighbours' one-rings)");
-    detail::repairParams(t[15], t[16], t[17]);
+    detail::faceTurnParam(t[15]);
+    detail::repairParams(t[16], t[17], t[18]);
     return t;
   }();
   return table;

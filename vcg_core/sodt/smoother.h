@@ -87,8 +87,13 @@ struct SodtSmoother {
     stats.creaseVertices = cls.crease();
     stats.cornerVertices = cls.corner();
     const std::vector<int> active = activeVertices(p, w.topo, cls, w.selected, stats);
-    std::vector<Vec3> faceNormal =  // flips turn the flipped faces' too
-        p.guard != Guard::None || p.keepBest ? faceNormals(w.faces, w.pos) : std::vector<Vec3>();
+    // The input orientation of every face (flips merge the flipped pair's):
+    // the guards and keepBest test faces against it, and the returned
+    // state's largest face turn is measured from it.
+    const double turnCos2 = runTurnCos2(p);
+    std::vector<Vec3> faceNormal = faceNormals(w.faces, w.pos, turnCos2 > 0 ? p.maxFaceTurnDeg : 90.0);
+    const std::vector<Vec3> none;
+    const std::vector<Vec3>& guardNormal = p.guard != Guard::None || p.keepBest ? faceNormal : none;
     const std::vector<FittedFrame> fit =
         p.algorithm == Algorithm::Denoise
             ? fitDenoiseFrames(w.topo, w.pos, std::move(projected), cls, active, threads)
@@ -102,17 +107,22 @@ struct SodtSmoother {
     reachBox(p, w.pos, w.topo, meanEdge, ctx.boxLo, ctx.boxHi);
     FlipRules flipRules;
     flipRules.maxDihedralRad = p.flipMaxDihedralDeg * kPi / 180.0;
-    if (p.algorithm != Algorithm::Basic) flipRules.cls = &cls.cls;
+    if (p.algorithm != Algorithm::Basic) {
+      flipRules.cls = &cls.cls;
+      flipRules.creaseDir = &cls.creaseDir;
+    }
     flipRules.input = input.get();  // flips must keep the bound too
-    BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, faceNormal, threads, tuning.simd);
+    flipRules.keepTurn = turnCos2 > 0;  // and the face turn bound
+    flipRules.maxTurnCos2 = turnCos2;
+    BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, guardNormal, threads, tuning.simd);
 
-    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, faceNormal, active, threads, tuning);
+    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, guardNormal, active, threads, tuning);
     const auto sweepsStart = std::chrono::steady_clock::now();
     for (int it = 0; it < p.iterations && !active.empty(); ++it) {
       sweeper.sweep();
       ++stats.iterations;
       if (p.flips) flipEdges(w, flipRules, faceNormal, sweeper, stats);
-      const bool stop = best.afterSweep(it + 1, w.faces, w.pos, faceNormal);
+      const bool stop = best.afterSweep(it + 1, w.faces, w.pos, guardNormal);
       const bool goOn = !cb || cb(100 * (it + 1) / p.iterations, ("S-ODT sweep " + std::to_string(it + 1) + "/" +
                                                                   std::to_string(p.iterations)).c_str());
       stats.stoppedEarly = stop;
@@ -121,8 +131,9 @@ struct SodtSmoother {
     }
     stats.sweepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sweepsStart).count();
     sweeper.addCounts(stats);
-    stats.returnedSweep = best.restore(stats.iterations, w.pos, w.faces);
+    stats.returnedSweep = best.restore(stats.iterations, w.pos, w.faces, faceNormal);
     if (stats.returnedSweep != stats.iterations && p.flips) w.topo = buildRingTopology(w.faces, w.deleted);
+    stats.maxFaceTurnDeg = largestFaceTurnDeg(w.faces, w.pos, faceNormal);
 
     Classification outCls = cls;
     std::vector<int> moved = active;

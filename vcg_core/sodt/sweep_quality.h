@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -185,6 +186,23 @@ inline SweepQuality measureSweepQuality(const FaceList& faces, const std::vector
   return SweepQualityMeter()(faces, pos, refNormal, threads, simd);
 }
 
+/// The largest angle, in degrees, between the area vector of a live face
+/// and its refNormal (SodtStats::maxFaceTurnDeg); faces whose area vector or
+/// refNormal is zero are left out, and an empty refNormal gives 0.
+inline double largestFaceTurnDeg(const FaceList& faces, const std::vector<Vec3>& pos,
+                                 const std::vector<Vec3>& refNormal) {
+  if (refNormal.empty()) return 0.0;
+  double worst = 0;
+  for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+    if (!faces.live[f] || refNormal[f].SquaredNorm() == 0) continue;
+    const std::array<int, 3>& t = faces.tri[f];
+    const Vec3 area = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
+    if (area.SquaredNorm() == 0) continue;
+    worst = std::max(worst, angleBetween(area, refNormal[f]));
+  }
+  return worst * kRadToDeg;
+}
+
 /// The states a run measures after its sweeps, for keepBest (the best
 /// state seen, the input being state 0) and toleranceDeg (the quality of the
 /// last sweep). Measures nothing when neither is asked for.
@@ -198,7 +216,7 @@ class BestState {
     last_ = meter_(faces, pos, refNormal, threads, simd);
     best_ = last_;
     if (keep_) pos_ = pos;
-    if (keep_ && flips_) faces_ = faces;
+    if (keep_ && flips_) faces_ = faces, ref_ = refNormal;
   }
 
   /// Measures the state after sweep `sweep` (1, 2, ...) and keeps it when
@@ -212,19 +230,21 @@ class BestState {
       best_ = q;
       sweep_ = sweep;
       pos_ = pos;
-      if (flips_) faces_ = faces;
+      if (flips_) faces_ = faces, ref_ = refNormal;
     }
     const bool stop = tolerance_ > 0 && q.minDeg - last_.minDeg <= tolerance_ && q.p1Deg - last_.p1Deg <= tolerance_;
     last_ = q;
     return stop;
   }
 
-  /// With keepBest, puts the best state into pos and faces when it is not
-  /// the one after `sweeps` sweeps; returns the sweep of the state left there.
-  int restore(int sweeps, std::vector<Vec3>& pos, FaceList& faces) const {
+  /// With keepBest, puts the best state into pos and faces, and the
+  /// refNormal it was measured with into refNormal (flips merge them), when
+  /// it is not the one after `sweeps` sweeps; returns the sweep of the state
+  /// left there.
+  int restore(int sweeps, std::vector<Vec3>& pos, FaceList& faces, std::vector<Vec3>& refNormal) const {
     if (!keep_ || sweep_ == sweeps) return sweeps;
     pos = pos_;
-    if (flips_) faces = faces_;
+    if (flips_) faces = faces_, refNormal = ref_;
     return sweep_;
   }
 
@@ -237,6 +257,7 @@ class BestState {
   SweepQuality last_, best_;
   std::vector<Vec3> pos_;
   FaceList faces_;
+  std::vector<Vec3> ref_;
   int sweep_ = 0;
 };
 

@@ -245,7 +245,11 @@ class Sweeper {
 
   void reserveScratch() {
     for (int i : active_) maxValence_ = std::max(maxValence_, topo_.ringSize(i));
-    for (Scratch& s : scratch_) s.reserve(maxValence_);
+    const double turn = runTurnCos2(p_);
+    for (Scratch& s : scratch_) {
+      s.reserve(maxValence_);
+      s.star.maxTurnCos2 = turn;  // the same for every star of the run
+    }
   }
 
   /// Algorithm 1, the smooth vertices of Algorithm 2 (whose update is
@@ -284,6 +288,7 @@ class Sweeper {
     if (lanePrepare_) {
       laneGuardInput_.faceNormal = faceNormal_.empty() ? nullptr : &faceNormal_[0][0];
       laneGuardInput_.quality = p_.guard == Guard::Quality;
+      laneGuardInput_.maxTurnCos2 = runTurnCos2(p_);
       laneGuardInput_.roundToFloat = std::is_same<Scalar, float>::value;
     }
     if (useLanes_) lanePlan_ = planLanes(plan_, topo_, laneable_, laneGuard_);
