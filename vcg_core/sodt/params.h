@@ -118,6 +118,12 @@ struct SodtParams {
   /// neighbours share a colour), so the result is bit-identical for every
   /// thread count.
   int threads = 0;
+  /// Border vertices slide along the border (see boundary.h): to the
+  /// minimiser of Eq. 5 over their open fan along the border direction,
+  /// staying on the input border polyline, under the same guards. Corners of
+  /// the border (a turn above kBoundaryCornerDeg, or more than two border
+  /// edges) stay fixed. Off: every border vertex stays fixed, as in the paper.
+  bool slideBoundary = false;
 
   /// Throws InvalidInput naming the offending field when a value lies
   /// outside its range in paramTable().
@@ -163,6 +169,13 @@ struct SodtStats {
   /// measurements and progress callbacks between them), without the set-up
   /// before them and the write-back after.
   double sweepSeconds = 0;
+  /// With slideBoundary: border vertices that slide along the border (also
+  /// counted in activeVertices, not in fixedBoundary), those kept fixed as
+  /// corners of the border (counted in fixedBoundary), and the sliding ones
+  /// that end away from their input position.
+  int slidingBoundary = 0;
+  int boundaryCorners = 0;
+  int movedBoundary = 0;
 };
 
 inline const char* toString(Guard g) {
@@ -402,7 +415,7 @@ struct ParamSpec {
 inline const std::vector<ParamSpec>& paramTable() {
   static const std::vector<ParamSpec> table = [] {
     const unsigned feature = algorithmBit(Algorithm::Feature), denoise = algorithmBit(Algorithm::Denoise);
-    std::vector<ParamSpec> t(15);
+    std::vector<ParamSpec> t(16);
     t[0].bind("algorithm", &SodtParams::algorithm).keys("algorithm", "algorithm").cli("--algorithm", "NAME")
         .dialog("Algorithm")
         .describe("vertex update rule")
@@ -512,6 +525,15 @@ inline const std::vector<ParamSpec>& paramTable() {
         .cli("--selected-only", nullptr).dialog("Affect only selection").onWithSelectionInPlugin()
         .describe("move only the selected vertices (the others stay fixed but still shape their "
                   "neighbours' one-rings)");
+    t[15].bind("slideBoundary", &SodtParams::slideBoundary).keys("slideBoundary", "slide_boundary")
+        .cli("--slide-boundary", nullptr).dialog("Slide boundary")
+        .describe("border vertices of an open mesh slide along the border instead of staying fixed",
+                  "Each moves to the minimiser of the S-ODT energy of its open fan (Eq. 5) along the "
+                  "direction between its two border neighbours, then onto the input border polyline, so "
+                  "that the border keeps its place and nearly its length; under the same guards as the "
+                  "other vertices. Corners of the border (where it turns by more than 30 degrees, or a "
+                  "vertex with more than two border edges) stay fixed. With selected only, only selected "
+                  "border vertices slide.");
     return t;
   }();
   return table;

@@ -11,6 +11,7 @@
 //   sweep_quality.h the best state for keepBest and toleranceDeg
 #pragma once
 
+#include "boundary.h"
 #include "classify.h"
 #include "flips.h"
 #include "guarded_move.h"
@@ -53,7 +54,8 @@ struct SodtSmoother {
   /// representable in ScalarType, and that rounded position is what the guard
   /// checks. With Basic, Guard::None and a double mesh the enclosed volume of
   /// a closed mesh is kept to rounding (Appendix D). Boundary, non-manifold,
-  /// isolated and deleted vertices never move; with p.selectedOnly only
+  /// isolated and deleted vertices never move (border vertices slide along
+  /// the border with p.slideBoundary, see boundary.h); with p.selectedOnly only
   /// selected vertices move. Updates the bounding box, and the unit face and
   /// vertex normals when present (see writeNormals).
   ///
@@ -86,6 +88,10 @@ struct SodtSmoother {
     stats.creaseVertices = cls.crease();
     stats.cornerVertices = cls.corner();
     const std::vector<int> active = activeVertices(p, w.topo, cls, w.selected, stats);
+    BoundarySlide slide;  // the border vertices that slide (slideBoundary)
+    if (p.slideBoundary) slide.prepare(p, w.faces, w.topo, w.pos, w.selected);
+    slide.count(stats);
+    const std::vector<Vec3> slideStart = slide.positions(w.pos);
     std::vector<Vec3> faceNormal =  // flips turn the flipped faces' too
         p.guard != Guard::None || p.keepBest ? faceNormals(w.faces, w.pos) : std::vector<Vec3>();
     const std::vector<FittedFrame> fit =
@@ -103,12 +109,12 @@ struct SodtSmoother {
     flipRules.input = input.get();  // flips must keep the bound too
     BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, faceNormal, threads, tuning.simd);
 
-    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, faceNormal, active, threads, tuning);
+    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, faceNormal, active, threads, tuning, &slide);
     const auto sweepsStart = std::chrono::steady_clock::now();
-    for (int it = 0; it < p.iterations && !active.empty(); ++it) {
+    for (int it = 0; it < p.iterations && !(active.empty() && slide.empty()); ++it) {
       sweeper.sweep();
       ++stats.iterations;
-      if (p.flips) flipEdges(w, flipRules, faceNormal, sweeper, stats);
+      if (p.flips) flipEdges(w, flipRules, faceNormal, sweeper, slide, stats);
       const bool stop = best.afterSweep(it + 1, w.faces, w.pos, faceNormal);
       const bool goOn = !cb || cb(100 * (it + 1) / p.iterations, ("S-ODT sweep " + std::to_string(it + 1) + "/" +
                                                                   std::to_string(p.iterations)).c_str());
@@ -121,8 +127,12 @@ struct SodtSmoother {
     stats.returnedSweep = best.restore(stats.iterations, w.pos, w.faces);
     if (stats.returnedSweep != stats.iterations && p.flips) w.topo = buildRingTopology(w.faces, w.deleted);
 
+    stats.movedBoundary = slide.movedFrom(slideStart, w.pos);
+
     // The mesh is written only here, positions and faces together.
-    writeBack(m, w, active, stats.flips > 0 || stats.reorientedFaces > 0, threads);
+    std::vector<int> moving = active;
+    moving.insert(moving.end(), slide.vertex.begin(), slide.vertex.end());
+    writeBack(m, w, moving, stats.flips > 0 || stats.reorientedFaces > 0, threads);
     if (classes) *classes = inMeshOrder(cls, w.order);
     return stats;
   }
@@ -132,11 +142,12 @@ struct SodtSmoother {
   /// the pair's smaller angle grows, so passes end anyway).
   static constexpr int kMaxFlipPasses = 10;
 
-  /// Flips edges after a sweep (see flipPass) and tells the sweeper what
-  /// changed. After the first pass, only edges around the flips of the pass
-  /// before can flip: the others are passed over.
+  /// Flips edges after a sweep (see flipPass) and tells the sweeper (and
+  /// the sliding border vertices' fans) what changed. After the first pass,
+  /// only edges around the flips of the pass before can flip: the others
+  /// are passed over.
   static void flipEdges(WorkingMesh& w, const FlipRules& rules, std::vector<Vec3>& faceNormal,
-                        Sweeper<ScalarType>& sweeper, SodtStats& stats) {
+                        Sweeper<ScalarType>& sweeper, BoundarySlide& slide, SodtStats& stats) {
     int flipped = 0;
     std::vector<int> flippedVertices;  // a, b, c, d of each flip
     std::vector<char> seed;
@@ -152,6 +163,7 @@ struct SodtSmoother {
     stats.flips += flipped;
     const RingTopology before = std::move(w.topo);
     w.topo = buildRingTopology(w.faces, w.deleted);
+    slide.rebuildFans(w.faces, static_cast<int>(w.pos.size()));
     sweeper.connectivityChanged(before, flippedVertices);
   }
 };
