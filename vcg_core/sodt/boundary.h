@@ -322,7 +322,8 @@ inline bool openFanAllows(const OpenStar& st, const Vec3& y, const Vec3& n, bool
   for (std::size_t k = 0; k < st.faces(); ++k) {
     const Vec3 &a = st.ring[k], &b = st.ring[k + 1];
     const Vec3 now = (a - st.center) ^ (b - st.center);
-    const double l2now = std::max({(a - st.center).SquaredNorm(), (b - st.center).SquaredNorm(), (b - a).SquaredNorm()});
+    const double l2now =
+        std::max({(a - st.center).SquaredNorm(), (b - st.center).SquaredNorm(), (b - a).SquaredNorm()});
     const Vec3 cur = now.Norm() > kCollapse * l2now ? now : n;
     const Vec3 next = (a - y) ^ (b - y);
     if (!(next * cur > 0) || (haveRef && next * st.refNormal[k] < 0)) return false;

@@ -928,7 +928,9 @@ double borderLength(const MeshType& m) {
     std::size_t e = k + 1;
     while (e < edges.size() && edges[e] == edges[k]) ++e;
     if (e - k == 1)
-      len += (detail::toVec3<MeshType>(m.vert[edges[k].first].cP()) - detail::toVec3<MeshType>(m.vert[edges[k].second].cP())).Norm();
+      len += (detail::toVec3<MeshType>(m.vert[edges[k].first].cP()) -
+              detail::toVec3<MeshType>(m.vert[edges[k].second].cP()))
+                 .Norm();
     k = e;
   }
   return len;
