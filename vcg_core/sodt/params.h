@@ -120,7 +120,7 @@ struct SodtParams {
   int threads = 0;
   /// Border vertices slide along the border (see boundary.h): to the
   /// minimiser of Eq. 5 over their open fan along the border direction,
-  /// staying on the input border polyline, under the same guards. Corners of
+  /// staying on a curve through the input border, under the same guards. Corners of
   /// the border (a turn above kBoundaryCornerDeg, or more than two border
   /// edges) stay fixed. Off: every border vertex stays fixed, as in the paper.
   bool slideBoundary = false;
@@ -529,9 +529,9 @@ inline const std::vector<ParamSpec>& paramTable() {
         .cli("--slide-boundary", nullptr).dialog("Slide boundary")
         .describe("border vertices of an open mesh slide along the border instead of staying fixed",
                   "Each moves to the minimiser of the S-ODT energy of its open fan (Eq. 5) along the "
-                  "direction between its two border neighbours, then onto the input border polyline, so "
-                  "that the border keeps its place and nearly its length; under the same guards as the "
-                  "other vertices. Corners of the border (where it turns by more than 30 degrees, or a "
+                  "direction between its two border neighbours, the step taken along a smooth curve through "
+                  "the input border, so that the border keeps its place and nearly its length; under the "
+                  "same guards as the other vertices. Corners of the border (where it turns by more than 30 degrees, or a "
                   "vertex with more than two border edges) stay fixed. With selected only, only selected "
                   "border vertices slide.");
     return t;
