@@ -42,6 +42,7 @@ void writeMeasures(Json& j, const Measures& s) {
   j["frac_above_90"] = number(s.angles.fracAbove90);
   j["p1_tri_min_angle"] = number(s.angles.p1TriMinDeg);
   j["volume"] = s.volume.closed ? number(s.volume.volume) : Json(nullptr);
+  j["border_length"] = number(s.borderLength);
 }
 
 /// Writes hausdorff_rel, mean_distance_rel (null when unknown) and
@@ -105,6 +106,7 @@ Measures measure(const MeshD& m, int threads) {
   Measures r;
   r.angles = sodt::computeAngleStats(m, threads);
   r.volume = sodt::enclosedVolume(m, threads);
+  r.borderLength = sodt::borderLength(m);
   return r;
 }
 
@@ -236,6 +238,9 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
   std::printf("  angles > 90    %s -> %s\n", percent(before.angles.fracAbove90).c_str(),
               percent(after.angles.fracAbove90).c_str());
   std::printf("  p1 tri min     %.3f -> %.3f deg\n", before.angles.p1TriMinDeg, after.angles.p1TriMinDeg);
+  if (before.borderLength > 0)
+    std::printf("  border length  %.10g -> %.10g (relative change %+.3e)\n", before.borderLength, after.borderLength,
+                (after.borderLength - before.borderLength) / before.borderLength);
   if (before.volume.closed && after.volume.closed) {
     const double rel = before.volume.volume != 0
                            ? (after.volume.volume - before.volume.volume) / std::fabs(before.volume.volume)
@@ -267,6 +272,9 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
               st.moved, st.backtracked, st.fallbackMoves, st.rejected, st.failedSolves, st.unchanged, st.skipped);
   std::printf("  fixed          %d boundary, %d non-manifold; %d vertices active\n", st.fixedBoundary,
               st.fixedNonManifold, st.activeVertices);
+  if (o.params.slideBoundary)
+    std::printf("  border         %d vertices slide along the border (%d of them moved), %d corners of the border "
+                "fixed\n", st.slidingBoundary, st.movedBoundary, st.boundaryCorners);
   if (st.reorientedFaces > 0)
     std::printf("  winding        %d faces turned over so that each part of the mesh has one winding "
                 "(written so)\n", st.reorientedFaces);
@@ -355,6 +363,9 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   j["active_vertices"] = st.activeVertices;
   j["fixed_boundary"] = st.fixedBoundary;
   j["fixed_nonmanifold"] = st.fixedNonManifold;
+  j["sliding_boundary"] = st.slidingBoundary;
+  j["boundary_corners"] = st.boundaryCorners;
+  j["moved_boundary"] = st.movedBoundary;
   j["cancelled"] = st.cancelled;
   writeClassCounts(j, r.classes);
   writeMeasures(j["before"] = Json::object(), before);

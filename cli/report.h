@@ -24,6 +24,7 @@ using sodt::MeshD;
 struct Measures {
   sodt::AngleStats angles;
   sodt::VolumeResult volume;
+  double borderLength = 0;  ///< length of the edges of one face (0 for a closed mesh)
 };
 
 /// On threads threads (the measures do not depend on their number).

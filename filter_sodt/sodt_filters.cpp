@@ -316,6 +316,10 @@ void logSmoothing(const SmoothingRun& run, const LogFn& log) {
                 s.iterations, s.activeVertices, s.threads, s.threads == 1 ? "" : "s", s.moved, s.backtracked,
                 s.fallbackMoves, s.rejected, s.failedSolves, s.unchanged, s.skipped, s.fixedBoundary,
                 s.fixedNonManifold));
+  if (p.slideBoundary)
+    log(LogLevel::Info, strFormat("S-ODT: %d border vertices slid along the border (%d of them moved); %d corners "
+                                  "of the border stayed fixed",
+                                  s.slidingBoundary, s.movedBoundary, s.boundaryCorners));
   if (s.reorientedFaces > 0)
     log(LogLevel::Info, strFormat("S-ODT: turned %d faces over so that each part of the mesh has one winding",
                                   s.reorientedFaces));

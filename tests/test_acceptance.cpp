@@ -259,3 +259,34 @@ TEST(Acceptance, SpotBasicMakesNoSharpEdgesBeyondTheFaceTurn) {
   }
   EXPECT_GE(minDeg[1], minDeg[0] - 1e-9);
 }
+
+TEST(Acceptance, OpenAneurysmBorderSlidesAndKeepsItsLength) {
+  REQUIRE_SHARED("aneurysm_open.ply");
+  sodt::MeshD in, fixed, sliding;
+  sodt::loadMesh(shared("aneurysm_open.ply"), in);
+  sodt::loadMesh(shared("aneurysm_open.ply"), fixed);
+  sodt::loadMesh(shared("aneurysm_open.ply"), sliding);
+  sodt::SodtParams p;  // `sodt smooth --flips`: basic, 20 sweeps, the default guard and bound
+  p.flips = true;
+  sodt::SodtSmoother<sodt::MeshD>::Apply(fixed, p);
+  p.slideBoundary = true;
+  const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(sliding, p);
+  EXPECT_GT(s.movedBoundary, s.slidingBoundary / 2);
+  const double length = sodt::borderLength(in);
+  EXPECT_LE(std::abs(sodt::borderLength(sliding) - length), 1e-3 * length);
+  // The rim's smallest angle grows; the mesh's (far from the rim) does not drop.
+  const sodt::RingTopology t = sodt::buildRingTopology(in);
+  const auto rimMin = [&](const sodt::MeshD& m) {
+    double lo = 180;
+    for (const auto& f : m.face) {
+      bool rim = false;
+      for (int j = 0; j < 3; ++j) rim = rim || t.kind[f.cV(j) - &m.vert[0]] == sodt::VertexKind::Boundary;
+      if (!rim) continue;
+      const auto P = [&](int j) { return sodt::Vec3(f.cP(j)[0], f.cP(j)[1], f.cP(j)[2]); };
+      lo = std::min(lo, sodt::triangleMinAngle(P(0), P(1), P(2)) * sodt::kRadToDeg);
+    }
+    return lo;
+  };
+  EXPECT_GT(rimMin(sliding), rimMin(fixed) + 1);
+  EXPECT_GE(sodt::computeAngleStats(sliding).minDeg, sodt::computeAngleStats(fixed).minDeg);
+}

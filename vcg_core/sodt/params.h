@@ -135,6 +135,12 @@ struct SodtParams {
   /// features: the repair never flips or collapses them and splits them
   /// along themselves, so they stay chains of edges.
   double featureAngleDeg = 30.0;
+  /// Border vertices slide along the border (see boundary.h): to the
+  /// minimiser of Eq. 5 over their open fan along the border direction,
+  /// staying on a curve through the input border, under the same guards. Corners of
+  /// the border (a turn above kBoundaryCornerDeg, or more than two border
+  /// edges) stay fixed. Off: every border vertex stays fixed, as in the paper.
+  bool slideBoundary = false;
 
   /// Throws InvalidInput naming the offending field when a value lies
   /// outside its range in paramTable().
@@ -218,6 +224,13 @@ struct SodtStats {
   int verticesAdded = 0, verticesRemoved = 0;
   long long repairMoves = 0;
   std::vector<RemainingTriangle> belowTarget;
+  /// With slideBoundary: border vertices that slide along the border (also
+  /// counted in activeVertices, not in fixedBoundary), those kept fixed as
+  /// corners of the border (counted in fixedBoundary), and the sliding ones
+  /// that end away from their input position.
+  int slidingBoundary = 0;
+  int boundaryCorners = 0;
+  int movedBoundary = 0;
 };
 
 inline const char* toString(Guard g) {
@@ -494,7 +507,7 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& feature
 inline const std::vector<ParamSpec>& paramTable() {
   static const std::vector<ParamSpec> table = [] {
     const unsigned feature = algorithmBit(Algorithm::Feature), denoise = algorithmBit(Algorithm::Denoise);
-    std::vector<ParamSpec> t(19);
+    std::vector<ParamSpec> t(20);
     t[0].bind("algorithm", &SodtParams::algorithm).keys("algorithm", "algorithm").cli("--algorithm", "NAME")
         .dialog("Algorithm")
         .describe("vertex update rule")
@@ -607,6 +620,15 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "neighbours' one-rings)");
     detail::faceTurnParam(t[15]);
     detail::repairParams(t[16], t[17], t[18]);
+    t[19].bind("slideBoundary", &SodtParams::slideBoundary).keys("slideBoundary", "slide_boundary")
+        .cli("--slide-boundary", nullptr).dialog("Slide boundary")
+        .describe("border vertices of an open mesh slide along the border instead of staying fixed",
+                  "Each moves to the minimiser of the S-ODT energy of its open fan (Eq. 5) along the "
+                  "direction between its two border neighbours, the step taken along a smooth curve through "
+                  "the input border, so that the border keeps its place and nearly its length; under the "
+                  "same guards as the other vertices. Corners of the border (where it turns by more than 30 degrees, or a "
+                  "vertex with more than two border edges) stay fixed. With selected only, only selected "
+                  "border vertices slide.");
     return t;
   }();
   return table;

@@ -11,6 +11,7 @@
 //   sweep_quality.h the best state for keepBest and toleranceDeg
 #pragma once
 
+#include "boundary.h"
 #include "classify.h"
 #include "flips.h"
 #include "guarded_move.h"
@@ -54,7 +55,8 @@ struct SodtSmoother {
   /// representable in ScalarType, and that rounded position is what the guard
   /// checks. With Basic, Guard::None and a double mesh the enclosed volume of
   /// a closed mesh is kept to rounding (Appendix D). Boundary, non-manifold,
-  /// isolated and deleted vertices never move; with p.selectedOnly only
+  /// isolated and deleted vertices never move (border vertices slide along
+  /// the border with p.slideBoundary, see boundary.h); with p.selectedOnly only
   /// selected vertices move. Updates the bounding box, and the unit face and
   /// vertex normals when present (see writeNormals).
   ///
@@ -87,6 +89,10 @@ struct SodtSmoother {
     stats.creaseVertices = cls.crease();
     stats.cornerVertices = cls.corner();
     const std::vector<int> active = activeVertices(p, w.topo, cls, w.selected, stats);
+    BoundarySlide slide;  // the border vertices that slide (slideBoundary)
+    if (p.slideBoundary) slide.prepare(p, w.faces, w.topo, w.pos, w.selected);
+    slide.count(stats);
+    const std::vector<Vec3> slideStart = slide.positions(w.pos);
     // The input orientation of every face (flips merge the flipped pair's):
     // the guards and keepBest test faces against it, and the returned
     // state's largest face turn is measured from it.
@@ -116,12 +122,12 @@ struct SodtSmoother {
     flipRules.maxTurnCos2 = turnCos2;
     BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, guardNormal, threads, tuning.simd);
 
-    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, guardNormal, active, threads, tuning);
+    Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, guardNormal, active, threads, tuning, &slide);
     const auto sweepsStart = std::chrono::steady_clock::now();
-    for (int it = 0; it < p.iterations && !active.empty(); ++it) {
+    for (int it = 0; it < p.iterations && !(active.empty() && slide.empty()); ++it) {
       sweeper.sweep();
       ++stats.iterations;
-      if (p.flips) flipEdges(w, flipRules, faceNormal, sweeper, stats);
+      if (p.flips) flipEdges(w, flipRules, faceNormal, sweeper, slide, stats);
       const bool stop = best.afterSweep(it + 1, w.faces, w.pos, guardNormal);
       const bool goOn = !cb || cb(100 * (it + 1) / p.iterations, ("S-ODT sweep " + std::to_string(it + 1) + "/" +
                                                                   std::to_string(p.iterations)).c_str());
@@ -137,10 +143,13 @@ struct SodtSmoother {
 
     Classification outCls = cls;
     std::vector<int> moved = active;
+    stats.movedBoundary = slide.movedFrom(slideStart, w.pos);
     if (p.repair) repairWorkingMesh(m, p, w, repairInput, outCls, moved, stats);
 
     // The mesh is written only here, positions and faces together.
-    writeBack(m, w, moved, stats.flips > 0 || stats.reorientedFaces > 0 || p.repair, threads);
+    std::vector<int> moving = moved;
+    moving.insert(moving.end(), slide.vertex.begin(), slide.vertex.end());
+    writeBack(m, w, moving, stats.flips > 0 || stats.reorientedFaces > 0 || p.repair, threads);
     if (classes) *classes = inMeshOrder(outCls, w.order);
     return stats;
   }
@@ -150,11 +159,12 @@ struct SodtSmoother {
   /// the pair's smaller angle grows, so passes end anyway).
   static constexpr int kMaxFlipPasses = 10;
 
-  /// Flips edges after a sweep (see flipPass) and tells the sweeper what
-  /// changed. After the first pass, only edges around the flips of the pass
-  /// before can flip: the others are passed over.
+  /// Flips edges after a sweep (see flipPass) and tells the sweeper (and
+  /// the sliding border vertices' fans) what changed. After the first pass,
+  /// only edges around the flips of the pass before can flip: the others
+  /// are passed over.
   static void flipEdges(WorkingMesh& w, const FlipRules& rules, std::vector<Vec3>& faceNormal,
-                        Sweeper<ScalarType>& sweeper, SodtStats& stats) {
+                        Sweeper<ScalarType>& sweeper, BoundarySlide& slide, SodtStats& stats) {
     int flipped = 0;
     std::vector<int> flippedVertices;  // a, b, c, d of each flip
     std::vector<char> seed;
@@ -170,6 +180,7 @@ struct SodtSmoother {
     stats.flips += flipped;
     const RingTopology before = std::move(w.topo);
     w.topo = buildRingTopology(w.faces, w.deleted);
+    slide.rebuildFans(w.faces, static_cast<int>(w.pos.size()));
     sweeper.connectivityChanged(before, flippedVertices);
   }
 };

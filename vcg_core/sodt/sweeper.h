@@ -5,6 +5,7 @@
 // result. What a visit does is guarded_move.h's.
 #pragma once
 
+#include "boundary.h"
 #include "deviation.h"
 #include "guarded_move.h"
 #include "lane_plan.h"
@@ -74,11 +75,13 @@ class Sweeper {
  public:
   /// pos and topo are the run's, read and written by every sweep; topo may
   /// change between sweeps (see connectivityChanged). faceNormal: the input
-  /// orientation of every face, or empty without a guard.
+  /// orientation of every face, or empty without a guard. slide: the
+  /// border vertices that slide (SodtParams::slideBoundary), or null.
   Sweeper(const VisitContext& ctx, std::vector<Vec3>& pos, const RingTopology& topo,
-          const std::vector<Vec3>& faceNormal, const std::vector<int>& active, int threads, SweepTuning tuning)
+          const std::vector<Vec3>& faceNormal, const std::vector<int>& active, int threads, SweepTuning tuning,
+          const BoundarySlide* slide = nullptr)
       : ctx_(ctx), p_(ctx.move.p), tuning_(tuning), pos_(pos), topo_(topo), faceNormal_(faceNormal),
-        active_(active), threads_(threads), scratch_(threads) {
+        active_(active), threads_(threads), scratch_(threads), slide_(slide) {
     deviationGuard_ = ctx.input != nullptr;
     tile_ = p_.guard != Guard::None ? kTileVertices : 0;
     plan_ = colourVertices(topo, active, tile_);
@@ -90,9 +93,12 @@ class Sweeper {
     if (deviationGuard_) initMargins(nv);
     reserveScratch();
     planKernel();
+    if (slide_)
+      for (std::size_t s = 0; s < slide_->vertex.size(); ++s) slideArc_.push_back(slide_->startArc(s));
   }
 
-  /// One sweep over every active vertex, colour by colour.
+  /// One sweep over every active vertex, colour by colour, then over the
+  /// sliding border vertices (see sweepBorder).
   void sweep() {
     const int sweepBase = phase_;
     const std::size_t phases = plan_.phaseBegin.size() - 1;
@@ -117,6 +123,7 @@ class Sweeper {
         runPhase(c, sweepBase + static_cast<int>(c), scratch_[0], threads_ > 1);
     }
     phase_ = sweepBase + static_cast<int>(phases);
+    if (slide_ && !slide_->empty()) sweepBorder(phase_++);
   }
 
   /// After edge flips: topo (the run's, rebuilt) replaces before. Only the
@@ -358,6 +365,31 @@ class Sweeper {
     for (int j = 0; j < n; ++j) visitOne(vs[j], phaseNo, sc0, nullptr, FullStep());
   }
 
+  /// The sliding border vertices, one after the other in ascending order
+  /// on the calling thread, as one phase numbered phaseNo after the
+  /// interior ones: their order (and so the result) depends neither on the
+  /// threads nor on the lane kernel, and there are few of them. They are
+  /// visited every sweep (no still() shortcut). A move adds to the vertex's
+  /// path length, which its interior neighbours' deviation margins read.
+  void sweepBorder(int phaseNo) {
+    Scratch& sc = scratch_[0];
+    OpenStar& st = border_;
+    for (std::size_t s = 0; s < slide_->vertex.size(); ++s) {
+      const int v = slide_->vertex[s];
+      const OpenFan& fan = slide_->fan[s];
+      st.center = pos_[v];
+      st.ring.resize(fan.ring.size());
+      for (std::size_t k = 0; k < fan.ring.size(); ++k) st.ring[k] = pos_[fan.ring[k]];
+      st.refNormal.clear();
+      if (!faceNormal_.empty())
+        for (int f : fan.faces) st.refNormal.push_back(faceNormal_[f]);
+      const Vec3 from = pos_[v];
+      const Outcome o = slideVisit<Scalar>(ctx_, *slide_, s, st, pos_[v], slideArc_[s], sc.queried);
+      record(v, o, phaseNo, sc);
+      if (moves(o) && deviationGuard_) odo_[v] += (pos_[v] - from).Norm();
+    }
+  }
+
   /// A visit whose outcome did not move the vertex need not be repeated
   /// while nothing in its star has moved since.
   bool still(int i) const {
@@ -568,6 +600,9 @@ class Sweeper {
   std::vector<float> pointMargin_, slotMargin_, slotOdo_;
   std::vector<int> slotHint_;
   std::vector<Scratch> scratch_;
+  const BoundarySlide* slide_;
+  OpenStar border_;  ///< the star of the border vertex being visited
+  std::vector<double> slideArc_;  ///< per sliding vertex, its parameter on its path (BoundarySlide::pointAt)
   int maxValence_ = 0;
   // The lane kernel (see planKernel).
   bool useLanes_ = false, denoiseLanes_ = false, laneGuard_ = false, lanePrepare_ = false;

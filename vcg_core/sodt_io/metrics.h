@@ -911,6 +911,31 @@ DistanceStats distanceAsIs(MeshA& A, MeshB& B, int threads) {
 
 }  // namespace detail
 
+/// Total length of the border: the edges of exactly one live face (an edge
+/// of three or more faces is not border). 0 for a closed mesh.
+template <class MeshType>
+double borderLength(const MeshType& m) {
+  std::vector<std::pair<std::size_t, std::size_t>> edges;
+  for (const auto& f : m.face)
+    if (!f.IsD())
+      for (int j = 0; j < 3; ++j) {
+        const std::size_t a = f.cV(j) - &m.vert[0], b = f.cV((j + 1) % 3) - &m.vert[0];
+        edges.emplace_back(std::min(a, b), std::max(a, b));
+      }
+  std::sort(edges.begin(), edges.end());
+  double len = 0;
+  for (std::size_t k = 0; k < edges.size();) {
+    std::size_t e = k + 1;
+    while (e < edges.size() && edges[e] == edges[k]) ++e;
+    if (e - k == 1)
+      len += (detail::toVec3<MeshType>(m.vert[edges[k].first].cP()) -
+              detail::toVec3<MeshType>(m.vert[edges[k].second].cP()))
+                 .Norm();
+    k = e;
+  }
+  return len;
+}
+
 /// Corner-angle statistics of the live triangles of m, computed in double
 /// on threads threads (the result is the same for any number: it is made
 /// of counts, extremes and an order statistic).
