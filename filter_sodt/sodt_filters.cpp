@@ -188,10 +188,11 @@ int postConditionMask(int id) {
       // run with flips would leave the flipped faces on the restored
       // positions (where they may fold) and the next preview or Apply would
       // start from them.
+      // MM_VERTNUMBER for "Local repair", which adds and removes vertices.
       return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL |
              MeshModel::MM_VERTFLAGSELECT | MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR |
              MeshModel::MM_FACEVERT | MeshModel::MM_VERTFACETOPO | MeshModel::MM_FACEFACETOPO |
-             MeshModel::MM_FACENUMBER;
+             MeshModel::MM_FACENUMBER | MeshModel::MM_VERTNUMBER;
     case kClassify:
       return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTFLAGSELECT;
   }
@@ -243,17 +244,20 @@ void checkSmoothable(MeshModel& mm, const sodt::SodtParams& p) {
   CMeshO& m = mm.cm;
   p.validate();
   if (m.fn == 0) throw sodt::InvalidInput("it needs a triangle mesh, but the current mesh has no faces.");
-  if (p.flips) {
-    // A flip rewires two faces' vertex references; the core knows nothing
-    // of per-wedge data or of the faux edges that describe polygons.
+  if (p.flips || p.repair) {
+    // A flip, split or collapse rewires faces' vertex references; the core
+    // knows nothing of per-wedge data or of the faux edges that describe
+    // polygons.
+    const char* what = p.flips ? "flips" : "the local repair";
+    const char* option = p.flips ? "'Edge flips'" : "'Local repair'";
     if (mm.hasDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_WEDGNORMAL | MeshModel::MM_WEDGCOLOR))
-      throw sodt::InvalidInput(
-          "flips would scramble the per-wedge texture coordinates, normals or colours of this mesh. "
-          "Turn 'Edge flips' off, or remove the wedge attributes first.");
+      throw sodt::InvalidInput(std::string(what) +
+                               " would scramble the per-wedge texture coordinates, normals or colours of this "
+                               "mesh. Turn " + option + " off, or remove the wedge attributes first.");
     if (mm.hasDataMask(MeshModel::MM_POLYGONAL))
-      throw sodt::InvalidInput(
-          "flips would break the polygonal faces of this mesh. Turn 'Edge flips' off, or make it a "
-          "pure triangle mesh first (filter 'Turn into a Pure-Triangular mesh').");
+      throw sodt::InvalidInput(std::string(what) + " would break the polygonal faces of this mesh. Turn " +
+                               option + " off, or make it a pure triangle mesh first (filter 'Turn into a "
+                               "Pure-Triangular mesh').");
   }
 }
 
@@ -320,6 +324,12 @@ void logSmoothing(const SmoothingRun& run, const LogFn& log) {
     log(LogLevel::Info, strFormat("S-ODT: %d border vertices slid along the border (%d of them moved); %d corners "
                                   "of the border stayed fixed",
                                   s.slidingBoundary, s.movedBoundary, s.boundaryCorners));
+  if (p.repair)
+    log(LogLevel::Info,
+        strFormat("S-ODT: local repair: %d vertices added, %d removed (%d splits, %d collapses, %d flips); %d "
+                  "triangles left below %g deg",
+                  s.verticesAdded, s.verticesRemoved, s.repairSplits, s.repairCollapses, s.repairFlips,
+                  int(s.belowTarget.size()), p.repairAngleDeg));
   if (s.reorientedFaces > 0)
     log(LogLevel::Info, strFormat("S-ODT: turned %d faces over so that each part of the mesh has one winding",
                                   s.reorientedFaces));
@@ -376,7 +386,10 @@ Report smoothingReport(const CMeshO& m, const SmoothingRun& run) {
   const std::pair<const char*, long long> counters[] = {
       {"moved", s.moved}, {"backtracked", s.backtracked}, {"fallback_moves", s.fallbackMoves},
       {"rejected", s.rejected}, {"failed_solves", s.failedSolves}, {"unchanged", s.unchanged},
-      {"skipped_visits", s.skipped}, {"flips", s.flips}, {"faces_changed", run.facesChanged}};
+      {"skipped_visits", s.skipped}, {"flips", s.flips}, {"faces_changed", run.facesChanged},
+      {"vertices_added", s.verticesAdded}, {"vertices_removed", s.verticesRemoved},
+      {"repair_splits", s.repairSplits}, {"repair_collapses", s.repairCollapses},
+      {"repair_flips", s.repairFlips}, {"below_repair_angle", static_cast<long long>(s.belowTarget.size())}};
   for (const auto& c : counters) r[c.first] = count(c.second);
   r["seconds"] = s.sweepSeconds;
   return r;
@@ -401,25 +414,27 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
 
     // The faces' vertex references, to tell whether the returned state has
     // other faces (keepBest may return a state from before the flips).
-    std::vector<const CVertexO*> faceVertsBefore;
-    if (p.flips)
+    // By index: the repair may reallocate the vertices.
+    std::vector<long> faceVertsBefore;
+    if (p.flips || p.repair)
       for (const CFaceO& f : m.face)
-        for (int j = 0; j < 3; ++j) faceVertsBefore.push_back(f.IsD() ? nullptr : f.cV(j));
+        for (int j = 0; j < 3; ++j) faceVertsBefore.push_back(f.IsD() ? -1 : long(f.cV(j) - &m.vert[0]));
 
     const sodt::SodtStats& s = run.s = sodt::SodtSmoother<CMeshO>::Apply(m, p, cb, &run.classes);
     // From here on the mesh has changed: nothing below may throw.
     selectionConverted = false;
-    if (p.flips)
+    if (p.flips || p.repair)
       for (size_t f = 0; f < m.face.size(); ++f)
         for (int j = 0; j < 3; ++j)
-          if (!m.face[f].IsD() && m.face[f].cV(j) != faceVertsBefore[3 * f + size_t(j)]) {
-            ++run.facesChanged;
+          if (!m.face[f].IsD() && (3 * f >= faceVertsBefore.size() ||
+                                   long(m.face[f].cV(j) - &m.vert[0]) != faceVertsBefore[3 * f + size_t(j)])) {
+            ++run.facesChanged;  // rewired, or made by the repair
             break;
           }
     // Flips move edges between face slots: per-face-edge border flags set
     // before the run would now describe other edges. (The core has already
     // rebuilt FF and VF adjacency where they are enabled.)
-    if (s.flips > 0 || s.reorientedFaces > 0) vcg::tri::UpdateFlags<CMeshO>::FaceBorderFromNone(m);
+    if (s.flips > 0 || s.reorientedFaces > 0 || p.repair) vcg::tri::UpdateFlags<CMeshO>::FaceBorderFromNone(m);
     sodt_meshlab::updateBoxAndNormals(mm);
     if (run.outputClass) {
       // Without the mask the GUI neither shows nor saves the colours (and

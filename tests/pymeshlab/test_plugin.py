@@ -221,6 +221,22 @@ def test_flips_change_the_connectivity_only(meshset):
     assert r["min_angle_after"] > 30.0
 
 
+def test_repair_changes_the_vertices_and_reaches_its_angle(meshset):
+    ms = meshset(bundled("plane_grid_open.ply"))
+    n_before = ms.current_mesh().vertex_number()
+    border_before = ms.get_topological_measures()["boundary_edges"]
+    plain = ms.apply_filter(SMOOTH, flips=True)
+    ms = meshset(bundled("plane_grid_open.ply"))
+    r = ms.apply_filter(SMOOTH, flips=True, repair=True, repair_angle=30.0)
+    m = ms.current_mesh()
+    assert plain["min_angle_after"] < 30.0 <= r["min_angle_after"]
+    assert r["vertices_added"] > 0 and r["below_repair_angle"] == 0
+    assert m.vertex_number() == n_before + r["vertices_added"] - r["vertices_removed"]
+    assert min(corner_angles_deg(m.vertex_matrix(), m.face_matrix())) >= 30.0 - 1e-6
+    topo = ms.get_topological_measures()
+    assert topo["is_mesh_two_manifold"] and topo["boundary_edges"] == border_before
+
+
 def test_the_result_does_not_depend_on_the_thread_count(meshset):
     results = []
     for threads in (1, 2):
