@@ -467,6 +467,19 @@ struct ParamSpec {
 
 namespace detail {
 
+/// The sliding border's entry of paramTable().
+inline void slideBoundaryParam(ParamSpec& t) {
+  t.bind("slideBoundary", &SodtParams::slideBoundary).keys("slideBoundary", "slide_boundary")
+      .cli("--slide-boundary", nullptr).dialog("Slide boundary")
+      .describe("border vertices of an open mesh slide along the border instead of staying fixed",
+                "Each moves to the minimiser of the S-ODT energy of its open fan (Eq. 5) along the "
+                "direction between its two border neighbours, the step taken along a smooth curve through "
+                "the input border, so that the border keeps its place and nearly its length; under the "
+                "same guards as the other vertices. Corners of the border (where it turns by more than 30 degrees, or a "
+                "vertex with more than two border edges) stay fixed. With selected only, only selected "
+                "border vertices slide.");
+}
+
 /// The face-turn bound's entry of paramTable().
 inline void faceTurnParam(ParamSpec& t) {
   t.bind("maxFaceTurnDeg", &SodtParams::maxFaceTurnDeg).keys("maxFaceTurn", "max_face_turn")
@@ -620,15 +633,7 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "neighbours' one-rings)");
     detail::faceTurnParam(t[15]);
     detail::repairParams(t[16], t[17], t[18]);
-    t[19].bind("slideBoundary", &SodtParams::slideBoundary).keys("slideBoundary", "slide_boundary")
-        .cli("--slide-boundary", nullptr).dialog("Slide boundary")
-        .describe("border vertices of an open mesh slide along the border instead of staying fixed",
-                  "Each moves to the minimiser of the S-ODT energy of its open fan (Eq. 5) along the "
-                  "direction between its two border neighbours, the step taken along a smooth curve through "
-                  "the input border, so that the border keeps its place and nearly its length; under the "
-                  "same guards as the other vertices. Corners of the border (where it turns by more than 30 degrees, or a "
-                  "vertex with more than two border edges) stay fixed. With selected only, only selected "
-                  "border vertices slide.");
+    detail::slideBoundaryParam(t[19]);
     return t;
   }();
   return table;
