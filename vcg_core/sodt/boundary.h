@@ -266,20 +266,7 @@ struct OpenStar {
 /// - ring.front()) x n, vanishes there, and the border direction
 /// (front - back) is such a line.
 inline StarQuadratic openFanQuadratic(const OpenStar& st, const Vec3& n) {
-  StarQuadratic q;
-  double C = 0;
-  for (std::size_t k = 0; k < st.faces(); ++k) {
-    const Vec3 Xa = st.ring[k] - st.center, Xb = st.ring[k + 1] - st.center;
-    const Vec3 e = Xb - Xa, w = e ^ n, S = Xa + Xb;
-    const double c = (Xa ^ Xb) * n;
-    const double A = Xa.SquaredNorm() + Xb.SquaredNorm() + e.SquaredNorm();
-    C += c;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) q.Q[i][j] += S[i] * w[j] + w[i] * S[j];
-    q.g -= S * (2 * c) + w * A;
-  }
-  for (int i = 0; i < 3; ++i) q.Q[i][i] += 2 * C;
-  return q;
+  return fanQuadratic(st.center, st.faces(), [&st](std::size_t k) -> const Vec3& { return st.ring[k]; }, n);
 }
 
 /// The unit normal of the open fan (the normalised sum of its faces' area

@@ -200,11 +200,14 @@ struct StarQuadratic {
 /// S_k = X_k + X_{k+1}, A_k = |X_k|^2 + |X_{k+1}|^2 + |e_k|^2 and C = sum c_k:
 /// E(x0 + p) = 2 C |p|^2 + sum_k (A_k - 2 p.S_k)(c_k - p.w_k), so
 /// Q = 2 C I + sum_k (S_k w_k^T + w_k S_k^T) and g = -sum_k (2 c_k S_k + A_k w_k).
-inline StarQuadratic sodtQuadratic(const Star& st, const Vec3& n) {
+/// Summed over the faces (center, at(k), at(k + 1)) for k < faces: a
+/// closed star (sodtQuadratic) or an open fan (boundary.h).
+template <class RingAt>
+StarQuadratic fanQuadratic(const Vec3& center, std::size_t faces, RingAt at, const Vec3& n) {
   StarQuadratic q;
   double C = 0;
-  for (std::size_t k = 0; k < st.size(); ++k) {
-    const Vec3 Xa = st.at(k) - st.center, Xb = st.at(k + 1) - st.center;
+  for (std::size_t k = 0; k < faces; ++k) {
+    const Vec3 Xa = at(k) - center, Xb = at(k + 1) - center;
     const Vec3 e = Xb - Xa, w = e ^ n, S = Xa + Xb;
     const double c = (Xa ^ Xb) * n;
     const double A = Xa.SquaredNorm() + Xb.SquaredNorm() + e.SquaredNorm();
@@ -215,6 +218,11 @@ inline StarQuadratic sodtQuadratic(const Star& st, const Vec3& n) {
   }
   for (int i = 0; i < 3; ++i) q.Q[i][i] += 2 * C;
   return q;
+}
+
+/// fanQuadratic over a closed star.
+inline StarQuadratic sodtQuadratic(const Star& st, const Vec3& n) {
+  return fanQuadratic(st.center, st.size(), [&st](std::size_t k) -> const Vec3& { return st.at(k); }, n);
 }
 
 /// Minimiser of the quadratic over the line centre + p0 + d e (e a unit
