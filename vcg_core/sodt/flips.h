@@ -3,6 +3,7 @@
 // coplanar triangles is flipped when that raises the smaller angle of the pair.
 #pragma once
 
+#include "cover.h"
 #include "deviation.h"
 #include "geometry.h"
 #include "local_solve.h"
@@ -45,6 +46,9 @@ struct FlipRules {
   /// Deviation guard (may be null): the new edge and faces must stay within
   /// the bound of the input surface, like the vertex moves.
   const InputSurface* input = nullptr;
+  /// The other direction (with input; may be null): the input points the
+  /// pair covers must stay within the bound of the new faces.
+  InputCover* cover = nullptr;
   /// Turn guard (with a refNormal): each new face must keep within the
   /// angle of maxTurnCos2 (Star::maxTurnCos2; 0: 90 degrees) of the pair's
   /// merged input normal, which it takes as its own, like a moved face of
@@ -256,8 +260,10 @@ inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRul
             (turnsBeyond(m1, merged, rules.maxTurnCos2) || turnsBeyond(m2, merged, rules.maxTurnCos2)))
           continue;
       }
+      if (rules.cover && !rules.cover->coveredAfterFlip(f1, f2, {a, d, c}, {d, b, c})) continue;
       faces.tri[f1] = {a, d, c};
       faces.tri[f2] = {d, b, c};
+      if (rules.cover) rules.cover->commitFlip(f1, f2);
       touched[f1] = touched[f2] = 1;
       created.insert({std::min(c, d), std::max(c, d)});
       if (haveRef) (*refNormal)[f1] = (*refNormal)[f2] = merged;

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "classify.h"
+#include "cover.h"
 #include "deviation.h"
 #include "lanes.h"
 #include "local_solve.h"
@@ -48,7 +49,7 @@ inline void count(SodtStats& s, Outcome o, long long n) {
   }
 }
 
-/// Read-only state shared by all visits of a run.
+/// State shared by all visits of a run; read-only but for the cover.
 struct VisitContext {
   MoveInputs move;
   const InputSurface* input;  ///< deviation guard, or null
@@ -56,6 +57,10 @@ struct VisitContext {
   bool lengthLanes;
   /// The box no guarded move may leave (see reachBox).
   Vec3 boxLo, boxHi;
+  /// The deviation guard's other direction (with input), or null: the
+  /// input points covered by the star must stay covered (see InputCover).
+  /// A visit reads and writes only its star's share of it.
+  InputCover* cover = nullptr;
 };
 
 /// The box a guarded move must stay in: the input surface's bounding box
@@ -226,6 +231,7 @@ struct GuardedMove {
         if (c.input && !c.input->keeps(i, star, y[l], s.hints, s.pointHint, (y[l] - star.center).Norm() + budget.eps,
                                        budget.drift, budget.last, budget.next, budget.queried, budget.reused))
           continue;
+        if (c.cover && !c.cover->coveredAfterMove(i, y[l])) continue;
         x = y[l];
         return yj[l];
       }

@@ -111,6 +111,11 @@ struct SodtSmoother {
     VisitContext ctx{MoveInputs{p, cls, fit, meanEdge}, input.get(), tuning.simd && lanes::available(),
                      Vec3(0, 0, 0), Vec3(0, 0, 0)};
     reachBox(p, w.pos, w.topo, meanEdge, ctx.boxLo, ctx.boxHi);
+    InputCover cover;  // the bound's other direction: the input near the output
+    if (input.get()) {
+      cover.prepare(w.faces, w.topo, w.pos, kCoverLimitFactor * input.get()->limit);
+      ctx.cover = &cover;
+    }
     FlipRules flipRules;
     flipRules.maxDihedralRad = p.flipMaxDihedralDeg * kPi / 180.0;
     if (p.algorithm != Algorithm::Basic) {
@@ -118,6 +123,7 @@ struct SodtSmoother {
       flipRules.creaseDir = &cls.creaseDir;
     }
     flipRules.input = input.get();  // flips must keep the bound too
+    flipRules.cover = ctx.cover;
     flipRules.keepTurn = turnCos2 > 0;  // and the face turn bound
     flipRules.maxTurnCos2 = turnCos2;
     BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, guardNormal, threads, tuning.simd);

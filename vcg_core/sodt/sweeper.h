@@ -465,6 +465,7 @@ class Sweeper {
     sc.reused += budget.reused;
     record(i, o, phaseNo, sc);
     if (moves(o) && deviationGuard_ && tuning_.reuseDeviationMargins) commitMargins(i, from, budget);
+    if (moves(o) && ctx_.cover) ctx_.cover->commitMove(i, pos_[i]);
     return true;
   }
 
@@ -476,12 +477,16 @@ class Sweeper {
     Budget budget;
     prepareBudget(i, sc, budget);
     const double step = (y - pos_[i]).Norm() + budget.eps;
-    if (!ctx_.input->keepsByMargins(i, sc.drift.size(), step, budget.drift, budget.last, budget.next, sc.reused))
+    long long reused = 0;  // counted only when the move is taken here
+    if (!ctx_.input->keepsByMargins(i, sc.drift.size(), step, budget.drift, budget.last, budget.next, reused))
       return false;
+    if (ctx_.cover && !ctx_.cover->coveredAfterMove(i, y)) return false;  // the full visit refuses it
+    sc.reused += reused;
     const Vec3 from = pos_[i];
     pos_[i] = y;
     record(i, Outcome::Moved, phaseNo, sc);
     commitMargins(i, from, budget);
+    if (ctx_.cover) ctx_.cover->commitMove(i, y);
     return true;
   }
 
