@@ -289,7 +289,10 @@ TEST(Smoother, TheSameResultAtEverySizeItAcceptsAndAClearRefusalBeyond) {
   sodt::SodtSmoother<sodt::MeshD>::Apply(ref, sodt::SodtParams{});
   const double refMin = sodt::computeAngleStats(ref).minDeg;
   const double refBelow30 = sodt::computeAngleStats(ref).fracBelow30;
-  ASSERT_GT(refMin, sodt::computeAngleStats(unit).minDeg + 0.5);
+  // (This input is folded in many places; the deviation bound's other
+  // direction, which keeps the input near the output, holds its slivers more:
+  // 0.92 to 1.37 degrees, where the one-way bound reached 1.9.)
+  ASSERT_GT(refMin, sodt::computeAngleStats(unit).minDeg + 0.25);
   // A copy of the unit sphere whose diagonal is `diagonal`.
   auto scaled = [&](sodt::MeshD& m, double diagonal) {
     vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(m, unit);
@@ -312,10 +315,10 @@ TEST(Smoother, TheSameResultAtEverySizeItAcceptsAndAClearRefusalBeyond) {
     // there.)
     EXPECT_NEAR(sodt::computeAngleStats(m).minDeg, refMin, 1e-6);
     EXPECT_NEAR(sodt::computeAngleStats(m).fracBelow30, refBelow30, 0.01);
-    // The symmetric distance is not bounded by the one-way deviation guard
-    // (0.1%): 0.27% with the fold test alone, 0.34% with the default face
-    // turn bound, which keeps this folded input's faces from turning as far.
-    EXPECT_LT(sodt::hausdorffRel(m, input), 0.004);
+    // The symmetric distance, bounded at sample points both ways (0.1% of
+    // the output from the input, 0.125% of the input from the output), is
+    // 0.14% here; with the one-way bound it was 0.34%.
+    EXPECT_LT(sodt::hausdorffRel(m, input), 0.0015);
   }
   for (const double d : {sodt::kMinMeshSize / 2, sodt::kMaxMeshSize * 2}) {
     sodt::MeshD m;
@@ -389,9 +392,10 @@ TEST(Smoother, InconsistentWindingIsMadeCoherentNotFrozen) {
   // part, and the faces are written back with the majority's winding. (Not
   // bit for bit: the vertices are visited in an order taken from the faces
   // as they came.)
-  sodt::MeshD good, mixed;
+  sodt::MeshD good, mixed, input;
   jitteredSphere(good, 0.6);
   jitteredSphere(mixed, 0.6);
+  jitteredSphere(input, 0.6);
   std::mt19937 g(11);
   int turned = 0;
   for (auto& f : mixed.face)
@@ -410,7 +414,12 @@ TEST(Smoother, InconsistentWindingIsMadeCoherentNotFrozen) {
   EXPECT_EQ(sodt_test::faceIndices(mixed), sodt_test::faceIndices(good));
   const double minGood = sodt::computeAngleStats(good).minDeg, minMixed = sodt::computeAngleStats(mixed).minDeg;
   EXPECT_NEAR(minMixed, minGood, 0.05 * minGood);
-  EXPECT_EQ(sodt::countInvertedFaces(mixed, good), 0);
+  // This input is folded in places: each run turns a few folded input faces
+  // back into the surface (2 of 1280 each), with the deviation bound's other
+  // direction not always the same ones (1 differs). None more in the mixed
+  // run, and the two runs agree on every other face.
+  EXPECT_LE(sodt::countInvertedFaces(mixed, input), sodt::countInvertedFaces(good, input));
+  EXPECT_LE(sodt::countInvertedFaces(mixed, good), sodt::countInvertedFaces(good, input));
 }
 
 TEST(Smoother, EachComponentGetsItsOwnMajorityWinding) {
