@@ -21,6 +21,9 @@ namespace sodt {
 /// of those runs stays within 1.5 bounds.
 constexpr double kCoverLimitFactor = 1.25;
 
+/// The slack of a face that covers no point (see InputCover).
+constexpr double kCoverNoPoints = std::numeric_limits<double>::infinity();
+
 /// The input's sample points, each held by one face of the working mesh that
 /// lies within the bound of it (its cover). deviation.h bounds the distance
 /// from the output to the input; this bounds the distance from the input's
@@ -34,7 +37,11 @@ constexpr double kCoverLimitFactor = 1.25;
 /// accepted move hands each point whose cover left the bound to the
 /// nearest face of the star. A flip does the same with the pair's two faces.
 ///
-/// Points are kept in one intrusive list per face. A move writes only the
+/// A face keeps a slack, how far inside the limit its points lie at least: a
+/// move of one of its corners by less leaves them covered, and is passed
+/// without a distance query (the answer is the one the query would give, so
+/// the result does not depend on it). Points are kept in one intrusive list
+/// per face. A move writes only the
 /// lists of its star's faces, which no vertex of the same colour shares, so
 /// the sweeps stay parallel; whether a move is accepted does not depend on
 /// the order of the lists, and which face takes a point depends on the
@@ -71,6 +78,8 @@ class InputCover {
                          static_cast<int>(f)});
       }
     }
+    slack_.assign(nf, kCoverNoPoints);
+    limit_ = limit;
     std::sort(edges.begin(), edges.end());
     const long long nv = static_cast<long long>(pos.size());
     for (std::size_t k = 0; k < edges.size(); ++k) {
@@ -80,6 +89,8 @@ class InputCover {
       // alone left the input 1.7 bounds from the output (spot_badquality).
       for (double t : {0.25, 0.5, 0.75}) add(pos[a] * (1 - t) + pos[b] * t, edges[k].second);
     }
+    for (std::size_t q = 0; q < point_.size(); ++q)
+      slack_[face_[q]] = std::min(slack_[face_[q]], slackOf(distance2(static_cast<int>(q), faces.tri[face_[q]])));
   }
 
   /// The number of input points kept covered.
@@ -89,34 +100,46 @@ class InputCover {
   /// star lies within the bound of one of the star's faces.
   bool coveredAfterMove(int v, const Vec3& p) const {
     const RingTopology& T = *topo_;
+    const double step = stepOf(v, p);
     for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k) {
       const int f = T.ringFace[k];
-      if (f < 0) continue;
+      if (f < 0 || step <= slack_[f]) continue;  // no point of f moves out of reach
       for (int q = head_[f]; q >= 0; q = next_[q])
         if (!(distance2(q, f, v, p) <= limit2_) && nearestInStar(q, v, p).second > limit2_) return false;
     }
     return true;
   }
 
-  /// After vertex v moved to p (coveredAfterMove(v, p) true): each point of
-  /// v's star whose cover left the bound goes to the star's nearest face.
-  void commitMove(int v, const Vec3& p) {
+  /// After vertex v moved from `from` to p (coveredAfterMove(v, p) true,
+  /// with v still at `from`): each point of v's star whose cover left the
+  /// bound goes to the star's nearest face, and the faces' slacks follow.
+  void commitMove(int v, const Vec3& from, const Vec3& p) {
     const RingTopology& T = *topo_;
+    const double step = (p - from).Norm() * (1 + 1e-12);
     for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k) {
       const int f = T.ringFace[k];
       if (f < 0) continue;
+      if (step <= slack_[f]) {  // every point of f stays within the bound of it
+        slack_[f] -= step;
+        continue;
+      }
+      double worst = -1;  // the largest squared distance of a point kept by f (-1: none)
       int prev = -1;
       for (int q = head_[f]; q >= 0;) {
         const int after = next_[q];
-        const int to = distance2(q, f, v, p) <= limit2_ ? f : nearestInStar(q, v, p).first;
-        if (to == f || to < 0) {
+        const double d2 = distance2(q, f, v, p);
+        const std::pair<int, double> to = d2 <= limit2_ ? std::make_pair(f, d2) : nearestInStar(q, v, p);
+        if (to.first == f || to.first < 0 || !(to.second <= limit2_)) {
           prev = q;
+          worst = std::max(worst, d2);
         } else {
           (prev < 0 ? head_[f] : next_[prev]) = after;  // unlink
-          link(q, to);
+          link(q, to.first);
+          slack_[to.first] = std::min(slack_[to.first], slackOf(to.second));
         }
         q = after;
       }
+      slack_[f] = worst < 0 ? kCoverNoPoints : slackOf(worst);  // of f's new shape
     }
   }
 
@@ -144,10 +167,14 @@ class InputCover {
     }
     const std::array<int, 3>& t1 = faces_->tri[f1];
     const std::array<int, 3>& t2 = faces_->tri[f2];
+    slack_[f1] = slack_[f2] = kCoverNoPoints;
     while (chain >= 0) {
       const int q = chain;
       chain = next_[q];
-      link(q, distance2(q, t1) <= distance2(q, t2) ? f1 : f2);
+      const double d1 = distance2(q, t1), d2 = distance2(q, t2);
+      const int f = d1 <= d2 ? f1 : f2;
+      link(q, f);
+      slack_[f] = std::min(slack_[f], slackOf(std::min(d1, d2)));
     }
   }
 
@@ -160,6 +187,15 @@ class InputCover {
   }
 
  private:
+  /// How far a point at squared distance d2 from a face can move (or the
+  /// face move under it) and stay within the limit: a lower bound, by 1e-9
+  /// of the limit, so that the shortcut it gives never passes a point the
+  /// exact test would refuse by rounding.
+  double slackOf(double d2) const { return limit_ * (1 - 1e-9) - std::sqrt(d2); }
+
+  /// The length of v's move to p, rounded up.
+  double stepOf(int v, const Vec3& p) const { return (p - (*pos_)[v]).Norm() * (1 + 1e-12); }
+
   void add(const Vec3& x, int f) {
     point_.push_back(x);
     face_.push_back(-1);
@@ -209,6 +245,12 @@ class InputCover {
   std::vector<int> face_;    ///< per point, its cover
   std::vector<int> next_;    ///< per point, the next of its cover's list (-1: none)
   std::vector<int> head_;    ///< per face, its first point (-1: none)
+  /// Per face, a lower bound of how far inside the limit its points lie
+  /// (limit minus their largest distance to it): a move of a corner by less
+  /// leaves every point of the face covered by it, with no distance query.
+  /// Only the moves of the face's corners change it, and each updates it.
+  std::vector<double> slack_;
+  double limit_ = 0;
 };
 
 }  // namespace sodt

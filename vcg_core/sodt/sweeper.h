@@ -465,7 +465,7 @@ class Sweeper {
     sc.reused += budget.reused;
     record(i, o, phaseNo, sc);
     if (moves(o) && deviationGuard_ && tuning_.reuseDeviationMargins) commitMargins(i, from, budget);
-    if (moves(o) && ctx_.cover) ctx_.cover->commitMove(i, pos_[i]);
+    if (moves(o) && ctx_.cover) ctx_.cover->commitMove(i, from, pos_[i]);
     return true;
   }
 
@@ -486,7 +486,7 @@ class Sweeper {
     pos_[i] = y;
     record(i, Outcome::Moved, phaseNo, sc);
     commitMargins(i, from, budget);
-    if (ctx_.cover) ctx_.cover->commitMove(i, y);
+    if (ctx_.cover) ctx_.cover->commitMove(i, from, y);
     return true;
   }
 
