@@ -354,7 +354,7 @@ inline bool openFanKeeps(const InputSurface& in, const BoundarySlide& b, std::si
 /// (borderSteps) taken along the curve through the input border
 /// (BoundarySlide::pointAt; arc is the vertex's parameter there, updated
 /// with the move), so the vertex never leaves the input border, shortened by halvings under the guards of an
-/// interior visit (fold, quality, reach, deviation), else the fallback step
+/// interior visit (fold, quality, reach, deviation both ways), else the fallback step
 /// likewise. Scalar code only: the same result with and without the lane
 /// kernel.
 template <class Scalar>
@@ -385,6 +385,7 @@ Outcome slideVisit(const VisitContext& c, const BoundarySlide& b, std::size_t s,
       if (!withinReach(c, st.center, y, st.ring.size(), [&](std::size_t k) -> const Vec3& { return st.ring[k]; }))
         continue;
       if (c.input && !openFanKeeps(*c.input, b, s, st, y, queried)) continue;
+      if (c.cover && !c.cover->coveredAfterMove(b.vertex[s], y, b.fan[s].faces)) continue;
       x = y;
       arc = a0 + step * f;
       return j;

@@ -98,49 +98,22 @@ class InputCover {
 
   /// True when, with vertex v at p, every point covered by a face of v's
   /// star lies within the bound of one of the star's faces.
-  bool coveredAfterMove(int v, const Vec3& p) const {
-    const RingTopology& T = *topo_;
-    const double step = stepOf(v, p);
-    for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k) {
-      const int f = T.ringFace[k];
-      if (f < 0 || step <= slack_[f]) continue;  // no point of f moves out of reach
-      for (int q = head_[f]; q >= 0; q = next_[q])
-        if (!(distance2(q, f, v, p) <= limit2_) && nearestInStar(q, v, p).second > limit2_) return false;
-    }
-    return true;
+  bool coveredAfterMove(int v, const Vec3& p) const { return coveredAfterMove(v, p, ringFaces(v)); }
+
+  /// The same for a vertex whose star is the given faces (a border vertex's
+  /// open fan, which the ring topology does not hold).
+  bool coveredAfterMove(int v, const Vec3& p, const std::vector<int>& star) const {
+    return coveredAfterMove(v, p, FaceSpan{star.data(), star.data() + star.size()});
   }
 
   /// After vertex v moved from `from` to p (coveredAfterMove(v, p) true,
   /// with v still at `from`): each point of v's star whose cover left the
   /// bound goes to the star's nearest face, and the faces' slacks follow.
-  void commitMove(int v, const Vec3& from, const Vec3& p) {
-    const RingTopology& T = *topo_;
-    const double step = (p - from).Norm() * (1 + 1e-12);
-    for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k) {
-      const int f = T.ringFace[k];
-      if (f < 0) continue;
-      if (step <= slack_[f]) {  // every point of f stays within the bound of it
-        slack_[f] -= step;
-        continue;
-      }
-      double worst = -1;  // the largest squared distance of a point kept by f (-1: none)
-      int prev = -1;
-      for (int q = head_[f]; q >= 0;) {
-        const int after = next_[q];
-        const double d2 = distance2(q, f, v, p);
-        const std::pair<int, double> to = d2 <= limit2_ ? std::make_pair(f, d2) : nearestInStar(q, v, p);
-        if (to.first == f || to.first < 0 || !(to.second <= limit2_)) {
-          prev = q;
-          worst = std::max(worst, d2);
-        } else {
-          (prev < 0 ? head_[f] : next_[prev]) = after;  // unlink
-          link(q, to.first);
-          slack_[to.first] = std::min(slack_[to.first], slackOf(to.second));
-        }
-        q = after;
-      }
-      slack_[f] = worst < 0 ? kCoverNoPoints : slackOf(worst);  // of f's new shape
-    }
+  void commitMove(int v, const Vec3& from, const Vec3& p) { commitMove(v, from, p, ringFaces(v)); }
+
+  /// The same for a star given by its faces (see coveredAfterMove).
+  void commitMove(int v, const Vec3& from, const Vec3& p, const std::vector<int>& star) {
+    commitMove(v, from, p, FaceSpan{star.data(), star.data() + star.size()});
   }
 
   /// True when the faces f1 and f2, made into t1 and t2 by a flip, still
@@ -187,6 +160,58 @@ class InputCover {
   }
 
  private:
+  /// The faces of a star, as indices into the face list (negative: none).
+  struct FaceSpan {
+    const int* first;
+    const int* last;
+    const int* begin() const { return first; }
+    const int* end() const { return last; }
+  };
+
+  FaceSpan ringFaces(int v) const {
+    const RingTopology& T = *topo_;
+    const int* base = T.ringFace.data();
+    return FaceSpan{base + T.ringBegin[v], base + T.ringBegin[v + 1]};
+  }
+
+  bool coveredAfterMove(int v, const Vec3& p, FaceSpan star) const {
+    const double step = stepOf(v, p);
+    for (int f : star) {
+      if (f < 0 || step <= slack_[f]) continue;  // no point of f moves out of reach
+      for (int q = head_[f]; q >= 0; q = next_[q])
+        if (!(distance2(q, f, v, p) <= limit2_) && nearestInStar(q, v, p, star).second > limit2_) return false;
+    }
+    return true;
+  }
+
+  void commitMove(int v, const Vec3& from, const Vec3& p, FaceSpan star) {
+    const double step = (p - from).Norm() * (1 + 1e-12);
+    for (int f : star) {
+      if (f < 0) continue;
+      if (step <= slack_[f]) {  // every point of f stays within the bound of it
+        slack_[f] -= step;
+        continue;
+      }
+      double worst = -1;  // the largest squared distance of a point kept by f (-1: none)
+      int prev = -1;
+      for (int q = head_[f]; q >= 0;) {
+        const int after = next_[q];
+        const double d2 = distance2(q, f, v, p);
+        const std::pair<int, double> to = d2 <= limit2_ ? std::make_pair(f, d2) : nearestInStar(q, v, p, star);
+        if (to.first == f || to.first < 0 || !(to.second <= limit2_)) {
+          prev = q;
+          worst = std::max(worst, d2);
+        } else {
+          (prev < 0 ? head_[f] : next_[prev]) = after;  // unlink
+          link(q, to.first);
+          slack_[to.first] = std::min(slack_[to.first], slackOf(to.second));
+        }
+        q = after;
+      }
+      slack_[f] = worst < 0 ? kCoverNoPoints : slackOf(worst);  // of f's new shape
+    }
+  }
+
   /// How far a point at squared distance d2 from a face can move (or the
   /// face move under it) and stay within the limit: a lower bound, by 1e-9
   /// of the limit, so that the shortcut it gives never passes a point the
@@ -225,11 +250,9 @@ class InputCover {
 
   /// The face of v's star nearest to point q with v at p (the first in ring
   /// order among equals), and the squared distance.
-  std::pair<int, double> nearestInStar(int q, int v, const Vec3& p) const {
-    const RingTopology& T = *topo_;
+  std::pair<int, double> nearestInStar(int q, int v, const Vec3& p, FaceSpan star) const {
     std::pair<int, double> best(-1, std::numeric_limits<double>::infinity());
-    for (int k = T.ringBegin[v]; k < T.ringBegin[v + 1]; ++k) {
-      const int f = T.ringFace[k];
+    for (int f : star) {
       if (f < 0) continue;
       const double d2 = distance2(q, f, v, p);
       if (d2 < best.second) best = {f, d2};

@@ -387,6 +387,7 @@ class Sweeper {
       const Outcome o = slideVisit<Scalar>(ctx_, *slide_, s, st, pos_[v], slideArc_[s], sc.queried);
       record(v, o, phaseNo, sc);
       if (moves(o) && deviationGuard_) odo_[v] += (pos_[v] - from).Norm();
+      if (moves(o) && ctx_.cover) ctx_.cover->commitMove(v, from, pos_[v], fan.faces);
     }
   }
 
