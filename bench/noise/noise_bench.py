@@ -277,14 +277,23 @@ def corner_share(sodt, mesh, work):
 
 # ---------------------------------------------------------------- one case
 
-def measure(pm, sodt, clean, path):
+def measure(pm, sodt, clean, path, before=None):
+    """The scores of one mesh; with `before` (the noisy input's vertices) also
+    the share of vertices that did not move and their share of the summed
+    distances from each vertex to its clean position."""
     st = pc.sodt_stats(sodt, path, clean.path)
     V, F = load(pm, path)
     normal, dihedral = shape_errors(clean, V, F)
-    return {"mean_rel": st["mean_distance_rel"], "hausdorff_rel": st["hausdorff_rel"],
-            "normal_err_deg": normal, "sharp_dihedral_err_deg": dihedral,
-            "min_angle": st["min_angle"], "frac_below_30": st["frac_below_30"],
-            "inverted": st["inverted_faces"]}
+    r = {"mean_rel": st["mean_distance_rel"], "hausdorff_rel": st["hausdorff_rel"],
+         "normal_err_deg": normal, "sharp_dihedral_err_deg": dihedral,
+         "min_angle": st["min_angle"], "frac_below_30": st["frac_below_30"],
+         "inverted": st["inverted_faces"]}
+    if before is not None and normal is not None:
+        still = np.all(V == before, axis=1)
+        err = np.linalg.norm(V - clean.V, axis=1)
+        r["unmoved_share"] = float(still.mean())
+        r["unmoved_error_share"] = float(err[still].sum() / err.sum()) if err.sum() > 0 else 0.0
+    return r
 
 
 def run_case(a, pm, clean, noisy, sigma, seed, rms, methods, folder):
@@ -293,6 +302,7 @@ def run_case(a, pm, clean, noisy, sigma, seed, rms, methods, folder):
     case = {"mesh": clean.name, "kind": clean.kind, "sigma": sigma, "seed": seed,
             "noise_rms_edges": rms, "input_file": os.path.relpath(noisy, a.out)}
     inp = measure(pm, a.sodt, clean, noisy)
+    before = load(pm, noisy)[0]
     corners_in = corner_share(a.sodt, noisy, folder)
     rows = [dict(case, method="input", **inp, corner_share=corners_in, seconds=None)]
     by_key = {m.key: m for m in pc.builtin_methods()}
@@ -315,7 +325,7 @@ def run_case(a, pm, clean, noisy, sigma, seed, rms, methods, folder):
                 if r.error:
                     raise RuntimeError(r.error)
                 seconds, out = r.seconds, r.output
-            scores = measure(pm, a.sodt, clean, out)
+            scores = measure(pm, a.sodt, clean, out, before)
         except (subprocess.CalledProcessError, RuntimeError, OSError) as e:
             error = getattr(e, "stderr", None) or str(e)
             error = error.strip().splitlines()[-1] if error.strip() else type(e).__name__
@@ -415,15 +425,18 @@ def markdown(rows, meta, methods):
                  f"{fmt(100 * x['frac_below_30'], '.1f')}% / {fmt(x['inverted'], 'd')}")
     out.append("")
     out += ["**Vertices `sodt smooth --algorithm denoise` classifies as corners** (corners never "
-            "move) and the seconds of each method (whole call):", "",
-            "| mesh | σ | noise RMS (edges) | corners, clean | corners, noisy | " +
-            " | ".join(f"s {LABELS[m]}" for m in methods) + " |",
-            "|---|---:|---:|---:|---:|" + "---:|" * len(methods)]
+            "move), the vertices it leaves where they were and their share of the summed distances "
+            "from each vertex to its clean position, and the seconds of each method (whole call):", "",
+            "| mesh | σ | noise RMS (edges) | corners, clean | corners, noisy | sodt: unmoved | "
+            "their error share | " + " | ".join(f"s {LABELS[m]}" for m in methods) + " |",
+            "|---|---:|---:|---:|---:|---:|---:|" + "---:|" * len(methods)]
     for mesh, sigma in cases:
         r = {x["method"]: x for x in rows if x["mesh"] == mesh and x["sigma"] == sigma}
         out.append(f"| {mesh} | {sigma} | {fmt(r['input']['noise_rms_edges'], '.3f')} | "
                    f"{100 * meta['clean_corner_share'][mesh]:.2f}% | "
                    f"{100 * r['input']['corner_share']:.1f}% | " +
+                   " | ".join(fmt(100 * r[SODT][k], ".1f") + "%" if SODT in r and k in r[SODT] else "–"
+                              for k in ("unmoved_share", "unmoved_error_share")) + " | " +
                    " | ".join(fmt(r[m].get("seconds") if m in r else None, ".2f") for m in methods) + " |")
     return "\n".join(out) + "\n"
 
