@@ -58,8 +58,8 @@ SODT = "sodt_denoise"
 # MeshDenoiser's options: those of DenoisingOptions.txt, the example option
 # file of MeshSDFilter (in Debian's meshsdfilter source package; the binary
 # package ships none). An empty option file would leave the library's
-# built-in values (Lambda 10, Eta 1, Mu 1, Nu 1), which inflate the bundled
-# cube by a quarter, so they are not what its authors meant as defaults.
+# built-in values (Lambda 10, Eta 1, Mu 1, Nu 1), which push the noisy
+# cube (sigma 0.2) out to +-1.25 (clean: +-1): not meant as defaults.
 MESHDENOISER_OPTIONS = (("Lambda", 2), ("Eta", 1.5), ("Mu", 1.5), ("Nu", 0.3),
                         ("MeshUpdateClosenessWeight", 0.001), ("MeshUpdateIterations", 20),
                         ("OuterIterations", 5))
