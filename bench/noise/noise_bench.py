@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Noise benchmark: denoisers against the clean mesh (issue 30, item 1).
+"""Noise benchmark: denoisers against the clean mesh.
 
 Makes noisy variants of clean meshes (Gaussian noise along the area-weighted
 vertex normals, sigma = k x the clean mesh's mean edge length, k in 0.1, 0.2,
@@ -400,7 +400,7 @@ def markdown(rows, meta, methods):
     out += pivot(rows, cases, methods,
                  lambda x: bold_if(x, "mean_ratio", best_ratio, ".2f"),
                  "Mean distance to the clean mesh,", "× the noisy input's (input column: % of the "
-                 "diagonal; target of issue 30: ≤ 0.5×):",
+                 "diagonal; the denoiser's target: ≤ 0.5×):",
                  with_input=lambda x: fmt(100 * x["mean_rel"], ".3f") + "%")
     out.append("")
     out += pivot(rows, cases, methods,
