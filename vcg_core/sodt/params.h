@@ -572,7 +572,9 @@ inline const std::vector<ParamSpec>& paramTable() {
         .describe("deviation guard: after a move, the vertex and the centroids and edge midpoints of its "
                   "faces must stay this close to the input surface around the vertex (0 disables it)",
                   "A step that would leave that bound is shortened or rejected like any guard veto. It keeps "
-                  "faces from cutting across creases and bounds the distance to the input. The surface "
+                  "faces from cutting across creases and bounds the distance to the input. The other way, "
+                  "the input's vertices, edge midpoints and quarter points and face centroids must stay "
+                  "within 1.25 times the bound of the output, so a tip or a sharp rim is not cut off. The surface "
                   "around a vertex is its one- and two-ring faces in the input mesh (of a neighbour with "
                   "more than 32 faces around it, the 32 beside the vertex). Unused by denoise, whose "
                   "purpose is to leave the noisy surface, and with guard none.");
