@@ -212,7 +212,7 @@ void expectRepairRowMatchesItsStats(const MeshReport& rep) {
       << r->m.detail;
 }
 
-TEST(Repair, RowsRunTheHeadlineVariantWithFlipsAndRepair) {
+TEST(ComparisonRepair, RowsRunTheHeadlineVariantWithFlipsAndRepair) {
   TempDir dir;
   const MeshReport rep = runInProcess(std::string(SODT_MESH_DIR) + "/plane_grid_open.ply", sodt::Algorithm::Basic,
                                       {"sodt_flips", "sodt_flips_repair"}, dir);
@@ -226,7 +226,7 @@ TEST(Repair, RowsRunTheHeadlineVariantWithFlipsAndRepair) {
   EXPECT_TRUE(isFile(dir.path() + "/work/plane_grid_open/sodt_flips_repair.ply"));
 }
 
-TEST(Repair, RowsFollowTheMeshsVariant) {
+TEST(ComparisonRepair, RowsFollowTheMeshsVariant) {
   TempDir dir;
   const MeshReport rep = runInProcess(std::string(SODT_MESH_DIR) + "/cube_jitter.ply", sodt::Algorithm::Feature,
                                       {"sodt_flips"}, dir);
@@ -243,7 +243,7 @@ std::string sharedMesh(const std::string& name) {
   return std::string(dir && *dir ? dir : SODT_SHARED_MESH_DIR) + "/" + name;
 }
 
-TEST(Repair, AgainstRemeshingAndFlippingOnSpotBadquality) {
+TEST(ComparisonRepair, AgainstRemeshingAndFlippingOnSpotBadquality) {
   const std::string path = sharedMesh("spot_badquality.ply");
   if (!isFile(path)) {
     const char* req = std::getenv("SODT_REQUIRE_SHARED");
@@ -302,7 +302,7 @@ Row fakeRow(const std::string& id, double minDeg, double haus, long long vertice
   return r;
 }
 
-TEST(Repair, VerdictNeedsAngleDistanceAndFewerVertices) {
+TEST(ComparisonRepair, VerdictNeedsAngleDistanceAndFewerVertices) {
   MeshReport rep;
   rep.job.name = "fake";
   rep.input.ok = true;
