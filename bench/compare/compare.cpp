@@ -42,6 +42,12 @@ const std::vector<Method>& allMethods() {
       {"sodt_denoise", "S-ODT denoise (Alg. 3)", Kind::InProcess, A::Denoise, "", true, "#2ca02c"},
       {"odt", "numerical ODT (Eq. 3)", Kind::InProcess, A::Odt, "", true, "#ff7f0e"},
       {"laplacian", "Laplacian (Eq. 3, S'k = 1)", Kind::InProcess, A::Laplacian, "", true, "#8c564b"},
+      // The headline variant with edge flips, and with flips and the local
+      // repair: they change the connectivity (and the repair the vertex set),
+      // so they stand against MeshLab's flipping and remeshing.
+      {"sodt_flips", "S-ODT + flips", Kind::InProcess, A::Basic, "", false, "#6baed6", true, true, false},
+      {"sodt_flips_repair", "S-ODT + flips + repair", Kind::InProcess, A::Basic, "", false, "#08306b", true, true,
+       true},
       {"plugin_basic", "S-ODT basic, plugin in meshlabserver", Kind::Plugin, A::Basic, "S-ODT Smoothing", true,
        "#9467bd"},
       {"ml_laplacian", "MeshLab Laplacian Smooth", Kind::Builtin, A::Basic, "Laplacian Smooth", true, "#7f7f7f"},
@@ -275,14 +281,41 @@ std::string countersLine(const sodt::SodtStats& s) {
   return buf;
 }
 
-sodt::SodtParams paramsFor(sodt::Algorithm a, int iterations) {
+sodt::SodtParams paramsFor(sodt::Algorithm a, int iterations, bool flips = false, bool repair = false) {
   sodt::SodtParams p;  // library defaults: guard quality, Laplacian fallback, 0.1% deviation bound
   p.algorithm = a;
   p.iterations = iterations;
+  p.flips = flips;
+  p.repair = repair;  // with the library's target angle and feature angle
   // One thread (the library default, 0, uses every core): the times stay
   // single-core, comparable with earlier reports and with the paper's.
   p.threads = 1;
   return p;
+}
+
+/// What the flips and the repair did, for the per-mesh notes.
+std::string changesLine(const sodt::SodtParams& p, const sodt::SodtStats& s) {
+  std::string t;
+  if (p.flips) t += "; " + std::to_string(s.flips) + " edges flipped between sweeps";
+  if (!p.repair) return t;
+  int why[4] = {0, 0, 0, 0};
+  for (const sodt::RemainingTriangle& b : s.belowTarget) ++why[static_cast<int>(b.why)];
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "; repair: %d vertices added, %d removed (%d splits, %d collapses, %d flips, %lld relaxing moves), "
+                "%zu triangles left below %g°",
+                s.verticesAdded, s.verticesRemoved, s.repairSplits, s.repairCollapses, s.repairFlips, s.repairMoves,
+                s.belowTarget.size(), p.repairAngleDeg);
+  t += buf;
+  if (!s.belowTarget.empty()) {
+    std::string reasons;
+    for (int k = 0; k < 4; ++k)
+      if (why[k])
+        reasons += (reasons.empty() ? "" : ", ") + std::to_string(why[k]) + " " +
+                   sodt::toString(static_cast<sodt::RepairReason>(k));
+    t += " (" + reasons + ")";
+  }
+  return t;
 }
 
 /// The paper's algorithm: no guard, no Laplacian fallback, no deviation bound.
@@ -561,12 +594,17 @@ MeshReport compareMesh(const MeshJob& job, const Options& opt, const MeshLabServ
     if (!wanted(opt, m.id)) continue;
     Row row;
     row.method = m;
+    if (m.headlineVariant) {
+      // "S-ODT + flips" becomes e.g. "S-ODT feature + flips".
+      row.method.algorithm = job.variant;
+      row.method.label = "S-ODT " + std::string(sodt::toString(job.variant)) + m.label.substr(5);
+    }
     Metrics& r = row.m;
     if (m.kind == Kind::InProcess) {
-      progress(opt, m.label);
+      progress(opt, row.method.label);
       MeshD out;
       copyMesh(input, out);
-      const sodt::SodtParams p = paramsFor(m.algorithm, opt.iterations);
+      const sodt::SodtParams p = paramsFor(row.method.algorithm, opt.iterations, m.flips, m.repair);
       const Clock::time_point t0 = Clock::now();
       sodt::SodtStats s;
       try {
@@ -591,9 +629,16 @@ MeshReport compareMesh(const MeshJob& job, const Options& opt, const MeshLabServ
       r.seconds = times[times.size() / 2];
       measure(out, input, rep.input, ref.get(), false, r);
       r.detail = countersLine(s);
-      if (m.algorithm == sodt::Algorithm::Feature || m.algorithm == sodt::Algorithm::Denoise)
+      if (row.method.algorithm == sodt::Algorithm::Feature || row.method.algorithm == sodt::Algorithm::Denoise)
         r.detail += "; classes: " + std::to_string(s.smoothVertices) + " smooth, " +
                     std::to_string(s.creaseVertices) + " crease, " + std::to_string(s.cornerVertices) + " corner";
+      if (p.flips) r.edgeFlips = s.flips;
+      if (p.repair) {
+        r.verticesAdded = s.verticesAdded;
+        r.verticesRemoved = s.verticesRemoved;
+        r.belowRepairTarget = static_cast<long long>(s.belowTarget.size());
+      }
+      r.detail += changesLine(p, s);
       sodt::SaveOptions so;
       so.verify = false;
       sodt::saveMesh(work + "/" + m.id + ".ply", out, so);

@@ -35,6 +35,11 @@ struct Method {
   /// of the tests); false for edge flipping and remeshing.
   bool smoother = true;
   std::string colour;  ///< figure colour
+  /// InProcess: run the mesh's headline variant (MeshJob::variant) instead
+  /// of `algorithm`; the row's label then names the variant.
+  bool headlineVariant = false;
+  bool flips = false;   ///< InProcess: SodtParams::flips (edge flips between sweeps)
+  bool repair = false;  ///< InProcess: SodtParams::repair (local repair after the sweeps)
 };
 
 /// Every method, in table order.
@@ -78,6 +83,12 @@ struct Metrics {
   double volume = kNaN;                        ///< enclosed volume when closed
   double volumeChange = kNaN;                  ///< (volume - input volume) / input volume, both closed
   long long inverted = -2;  ///< faces turned > 90 deg against the input; -1: other connectivity; -2: not measured
+  /// In-process runs with flips or repair (-1 otherwise): edges flipped,
+  /// vertices the repair added and removed (SodtStats), and the triangles it
+  /// left below its target angle.
+  long long edgeFlips = -1;
+  long long verticesAdded = -1, verticesRemoved = -1;
+  long long belowRepairTarget = -1;
   double seconds = kNaN;    ///< see Kind
   std::string detail;       ///< one line (run counters, server status)
 };
@@ -210,6 +221,24 @@ struct Options {
 /// ml may be null (MeshLab rows are then skipped with a note). Throws
 /// std::runtime_error when the input cannot be read.
 MeshReport compareMesh(const MeshJob& job, const Options& opt, const MeshLabServer* ml);
+
+/// The local repair (the headline variant with flips and repair) against
+/// MeshLab's isotropic remeshing at the input's mean edge length, on one mesh.
+/// Vertex changes: the repair's are exact (vertices added + removed, from
+/// SodtStats); the remesher's is |V_out - V_in|, a lower bound, since it
+/// resamples the whole surface.
+struct RepairVerdict {
+  const Row* repair = nullptr;     ///< sodt_flips_repair (nullptr: not run or failed)
+  const Row* flipsOnly = nullptr;  ///< sodt_flips, the same run without the repair
+  const Row* isotropic = nullptr;  ///< ml_isotropic_edge
+  const Row* planarFlip = nullptr; ///< ml_planar_flip
+  long long repairChanged = -1;    ///< vertices added + removed by the repair
+  long long isotropicChanged = -1; ///< |V_out - V_in| of the remesher (a lower bound)
+  bool comparable = false;         ///< both the repair and the remesher ran
+  bool largerMinAngle = false, noLargerHausdorff = false, fewerVertexChanges = false;
+  bool beats() const { return comparable && largerMinAngle && noLargerHausdorff && fewerVertexChanges; }
+};
+RepairVerdict repairVerdict(const MeshReport& r);
 
 /// The paper's Table 3 (min angle) and Table 4 (time) row of one model.
 struct PaperRow {

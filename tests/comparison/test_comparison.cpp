@@ -12,6 +12,12 @@
 // * The .mlx scripts written for the built-in filters list exactly the
 //   filters' parameters (checked by sodt_plugin_script_tool against the
 //   installed MeshLab plugins, with MeshLab's own script parser).
+// * The rows of S-ODT with flips and with flips and local repair run the
+//   mesh's headline variant; the repair row's vertex counts are the
+//   smoother's (added and removed), and its minimum angle is no smaller than
+//   that of the same run without the repair. The verdict "repair beats
+//   remeshing" needs a larger minimum angle, no larger Hausdorff distance and
+//   fewer vertices changed, each checked on its own.
 // * sodt_compare writes RESULTS.md and the SVG figures.
 
 #include "compare.h"
@@ -38,6 +44,9 @@
 #endif
 #ifndef SODT_HAVE_PLUGIN
 #define SODT_HAVE_PLUGIN 0
+#endif
+#ifndef SODT_SHARED_MESH_DIR
+#define SODT_SHARED_MESH_DIR ""
 #endif
 
 namespace {
@@ -156,6 +165,190 @@ TEST(Comparison, CubeNoisySodtBeatsCloserSmoothers) {
   const MeshReport rep = runOn("cube_noisy.ply", sodt::Algorithm::Denoise, builtinSmoothers(), dir);
   expectBeatsCloserSmoothers(rep, "sodt_denoise");
   expectBeatsCloserSmoothers(rep, "sodt_basic");
+}
+
+// ---------------------------------------------------------------------------
+// S-ODT with flips and local repair
+
+/// The in-process rows `ids` on `path` with `variant` as the headline (no MeshLab).
+MeshReport runInProcess(const std::string& path, sodt::Algorithm variant, const std::vector<std::string>& ids,
+                        const TempDir& dir) {
+  Options opt;
+  opt.iterations = 20;
+  opt.workDir = dir.path() + "/work";
+  opt.curves = false;
+  opt.quiet = true;
+  opt.timingRuns = 1;
+  opt.methods = ids;
+  MeshJob job;
+  job.path = path;
+  job.name = baseName(path);
+  job.variant = variant;
+  return compareMesh(job, opt, nullptr);
+}
+
+/// The repair row changed the vertex set exactly as the smoother's
+/// statistics say, and did not lower the minimum angle of the same run
+/// without the repair.
+void expectRepairRowMatchesItsStats(const MeshReport& rep) {
+  const Row* f = rep.row("sodt_flips");
+  const Row* r = rep.row("sodt_flips_repair");
+  ASSERT_TRUE(f && f->m.ok) << "the flips row did not run: " << (f ? f->m.error : std::string("no row"));
+  ASSERT_TRUE(r && r->m.ok) << "the repair row did not run: " << (r ? r->m.error : std::string("no row"));
+  // Flips alone keep the vertex set and report no repair.
+  EXPECT_EQ(f->m.vertices, rep.input.vertices);
+  EXPECT_EQ(f->m.verticesAdded, -1);
+  EXPECT_GE(f->m.edgeFlips, 0);
+  // The repair changed the vertex set, by what its statistics say.
+  ASSERT_GE(r->m.verticesAdded, 0) << "the repair row reports no repair statistics";
+  ASSERT_GE(r->m.verticesRemoved, 0);
+  EXPECT_GT(r->m.verticesAdded + r->m.verticesRemoved, 0) << "the repair changed no vertex on " << rep.job.name;
+  EXPECT_EQ(r->m.vertices, rep.input.vertices + r->m.verticesAdded - r->m.verticesRemoved);
+  EXPECT_EQ(r->m.inverted, -1) << "a repaired mesh has other connectivity";
+  EXPECT_GE(r->m.minDeg, f->m.minDeg) << "the repair lowered the minimum angle of the flips-only run";
+  EXPECT_NE(r->m.detail.find("repair: " + std::to_string(r->m.verticesAdded) + " vertices added, " +
+                             std::to_string(r->m.verticesRemoved) + " removed"),
+            std::string::npos)
+      << r->m.detail;
+}
+
+TEST(ComparisonRepair, RowsRunTheHeadlineVariantWithFlipsAndRepair) {
+  TempDir dir;
+  const MeshReport rep = runInProcess(std::string(SODT_MESH_DIR) + "/plane_grid_open.ply", sodt::Algorithm::Basic,
+                                      {"sodt_flips", "sodt_flips_repair"}, dir);
+  expectRepairRowMatchesItsStats(rep);
+  const Row* r = rep.row("sodt_flips_repair");
+  ASSERT_TRUE(r && r->m.ok);
+  EXPECT_EQ(r->method.label, "S-ODT basic + flips + repair");
+  // Nothing was left below the target here, so the target is reached.
+  EXPECT_EQ(r->m.belowRepairTarget, 0) << r->m.detail;
+  EXPECT_GE(r->m.minDeg, sodt::SodtParams{}.repairAngleDeg - 1e-9);
+  EXPECT_TRUE(isFile(dir.path() + "/work/plane_grid_open/sodt_flips_repair.ply"));
+}
+
+TEST(ComparisonRepair, RowsFollowTheMeshsVariant) {
+  TempDir dir;
+  const MeshReport rep = runInProcess(std::string(SODT_MESH_DIR) + "/cube_jitter.ply", sodt::Algorithm::Feature,
+                                      {"sodt_flips"}, dir);
+  const Row* f = rep.row("sodt_flips");
+  ASSERT_TRUE(f && f->m.ok);
+  EXPECT_EQ(f->method.label, "S-ODT feature + flips");
+  EXPECT_EQ(f->method.algorithm, sodt::Algorithm::Feature);
+  EXPECT_NE(f->m.detail.find(" corner"), std::string::npos) << "no vertex classes: not the feature variant";
+}
+
+/// A mesh of ../shared/meshes: skipped when absent, unless SODT_REQUIRE_SHARED=1.
+std::string sharedMesh(const std::string& name) {
+  const char* dir = std::getenv("SODT_SHARED_MESH_DIR");
+  return std::string(dir && *dir ? dir : SODT_SHARED_MESH_DIR) + "/" + name;
+}
+
+TEST(ComparisonRepair, AgainstRemeshingAndFlippingOnSpotBadquality) {
+  const std::string path = sharedMesh("spot_badquality.ply");
+  if (!isFile(path)) {
+    const char* req = std::getenv("SODT_REQUIRE_SHARED");
+    if (req && std::string(req) == "1") FAIL() << path << " is missing and SODT_REQUIRE_SHARED=1";
+    GTEST_SKIP() << path << " not present (the shared meshes are not next to the checkout)";
+  }
+  TempDir dir;
+  Options opt;
+  opt.iterations = 20;
+  opt.workDir = dir.path() + "/work";
+  opt.curves = false;
+  opt.quiet = true;
+  opt.timingRuns = 1;
+  opt.methods = {"sodt_flips", "sodt_flips_repair", "ml_isotropic_edge", "ml_planar_flip"};
+  MeshLabServer server;
+  std::string err;
+  ASSERT_TRUE(server.start(defaultMeshLabConfig(), opt.workDir, err)) << err;
+  MeshJob job;
+  job.path = path;
+  job.name = "spot_badquality";
+  const MeshReport rep = compareMesh(job, opt, &server);
+  expectRepairRowMatchesItsStats(rep);
+  const RepairVerdict v = repairVerdict(rep);
+  ASSERT_TRUE(v.repair && v.isotropic && v.planarFlip && v.flipsOnly);
+  ASSERT_TRUE(v.comparable);
+  // A closed mesh stays closed with its genus: F changes by twice V.
+  EXPECT_TRUE(v.repair->m.closed);
+  EXPECT_EQ(v.repair->m.faces - rep.input.faces, 2 * (v.repair->m.vertices - rep.input.vertices));
+  EXPECT_EQ(v.repairChanged, v.repair->m.verticesAdded + v.repair->m.verticesRemoved);
+  EXPECT_EQ(v.isotropicChanged, std::llabs(v.isotropic->m.vertices - rep.input.vertices));
+  EXPECT_NE(v.isotropic->m.vertices, rep.input.vertices) << "the remesher kept the vertex count";
+  EXPECT_EQ(v.planarFlip->m.vertices, rep.input.vertices);
+  EXPECT_EQ(v.largerMinAngle, v.repair->m.minDeg > v.isotropic->m.minDeg);
+  // The report has the section, with this mesh's row.
+  const std::string md = markdownReport({rep}, opt, "sodt_compare ...", "test", "figures");
+  EXPECT_NE(md.find("## Local repair against remeshing"), std::string::npos) << md;
+  EXPECT_NE(md.find("| spot_badquality | 2930 | "), std::string::npos) << md;
+  EXPECT_NE(md.find("| S-ODT basic + flips + repair | " + std::to_string(v.repair->m.vertices) + " | "),
+            std::string::npos)
+      << md;
+  // The histograms show the repair row next to MeshLab's.
+  const std::string svg = histogramSvg(rep);
+  EXPECT_NE(svg.find("S-ODT basic + flips + repair"), std::string::npos);
+  EXPECT_NE(svg.find("Isotropic Explicit Remeshing, target = mean edge"), std::string::npos);
+}
+
+/// A measured row for the verdict tests.
+Row fakeRow(const std::string& id, double minDeg, double haus, long long vertices) {
+  Row r;
+  r.method = *findMethod(id);
+  r.m.ok = true;
+  r.m.minDeg = minDeg;
+  r.m.hausInput = haus;
+  r.m.vertices = vertices;
+  r.m.faces = 2 * vertices - 4;
+  return r;
+}
+
+TEST(ComparisonRepair, VerdictNeedsAngleDistanceAndFewerVertices) {
+  MeshReport rep;
+  rep.job.name = "fake";
+  rep.input.ok = true;
+  rep.input.vertices = 1000;
+  rep.input.minDeg = 1;
+  Row rp = fakeRow("sodt_flips_repair", 26, 0.0015, 1002);
+  rp.m.verticesAdded = 3;
+  rp.m.verticesRemoved = 1;
+  rp.m.belowRepairTarget = 0;
+  rep.rows = {fakeRow("sodt_flips", 20, 0.0012, 1000), rp, fakeRow("ml_planar_flip", 2, 0.0002, 1000),
+              fakeRow("ml_isotropic_edge", 20, 0.002, 950)};
+  auto withIso = [&](double minDeg, double haus, long long v) {
+    MeshReport r = rep;
+    r.rows[3] = fakeRow("ml_isotropic_edge", minDeg, haus, v);
+    return repairVerdict(r);
+  };
+  RepairVerdict v = repairVerdict(rep);
+  EXPECT_TRUE(v.comparable);
+  EXPECT_EQ(v.repairChanged, 4);
+  EXPECT_EQ(v.isotropicChanged, 50);
+  EXPECT_TRUE(v.beats());
+  EXPECT_FALSE(withIso(26, 0.002, 950).beats()) << "an equal minimum angle is not larger";
+  EXPECT_FALSE(withIso(20, 0.001, 950).beats()) << "a larger Hausdorff distance";
+  EXPECT_TRUE(withIso(20, 0.0015, 950).beats()) << "an equal Hausdorff distance is no larger";
+  EXPECT_FALSE(withIso(20, 0.002, 1004).beats()) << "4 changes against a lower bound of 4 are not fewer";
+  EXPECT_TRUE(withIso(20, 0.002, 995).beats()) << "the remesher's count is |V_out - V_in|";
+  // Without the remeshing row nothing is claimed.
+  MeshReport noIso = rep;
+  noIso.rows.pop_back();
+  EXPECT_FALSE(repairVerdict(noIso).comparable);
+  EXPECT_FALSE(repairVerdict(noIso).beats());
+
+  // The report says which criterion failed.
+  Options opt;
+  MeshReport lost = rep;
+  lost.rows[3] = fakeRow("ml_isotropic_edge", 30, 0.001, 1001);
+  lost.job.name = "lost";
+  const std::string md = markdownReport({rep, lost}, opt, "sodt_compare ...", "test", "figures");
+  EXPECT_NE(md.find("| fake | 1000 | 1.00 | basic: 20.00 / 0.12 | 26.00 / 0.15 | 1002 (+3 / −1) | 0 | "
+                    "20.00 / 0.2 | 950 (50) | 2.00 / 0.02 | **yes** |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("no: min angle not larger, larger Hausdorff, not fewer vertices changed |"), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("beats the isotropic remeshing (target = mean edge) on 1 of 2 meshes (fake)"), std::string::npos)
+      << md;
 }
 
 /// TwoStep Smooth inverts faces on `mesh`; S-ODT basic inverts none.
@@ -284,7 +477,8 @@ TEST(Cli, WritesReportAndFigures) {
   const std::string log = dir.path() + "/run.log";
   double secs = 0;
   const bool plugin = SODT_HAVE_PLUGIN;
-  const std::string methods = std::string("sodt_basic,sodt_feature,odt,ml_taubin") + (plugin ? ",plugin_basic" : "");
+  const std::string methods =
+      std::string("sodt_basic,sodt_feature,odt,sodt_flips_repair,ml_taubin") + (plugin ? ",plugin_basic" : "");
   // A RESULTS.md from an earlier run, with the section pymeshlab_compare.py
   // writes: the rewrite keeps that section and drops the rest.
   const std::string pymeshlabPart =
@@ -310,6 +504,9 @@ TEST(Cli, WritesReportAndFigures) {
     EXPECT_NE(md.find("| S-ODT basic, plugin in meshlabserver | 866 | 1728 |"), std::string::npos) << md;
   }
   EXPECT_NE(md.find("| MeshLab Taubin Smooth | 866 | 1728 |"), std::string::npos) << md;
+  // The repair row runs the mesh's variant, and has its section.
+  EXPECT_NE(md.find("| S-ODT feature + flips + repair | "), std::string::npos) << md;
+  EXPECT_NE(md.find("## Local repair against remeshing"), std::string::npos) << md;
   EXPECT_EQ(md.find("| failed: "), std::string::npos) << md;
   // The timings name the processor they were taken on, where it is known.
   std::string cpuinfo;

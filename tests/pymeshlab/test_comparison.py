@@ -2,11 +2,15 @@
 """S-ODT through PyMeshLab against PyMeshLab's own smoothers, measured alike
 (bench/compare/pymeshlab_compare.py, which also writes docs/RESULTS.md):
 S-ODT inverts no face, and no vertex-moving built-in reaches S-ODT's minimum
-angle without moving farther from the input (Hausdorff distance)."""
+angle without moving farther from the input (Hausdorff distance). The row
+with the local repair changes the vertex count by what the filter reports,
+and does not lower the minimum angle of flips alone."""
 import pytest
 
 import pymeshlab_compare as pc
 from conftest import SODT_CLI, bundled, shared
+
+REPAIR_ANGLE = 25.0  # the plugin's default `repair_angle`
 
 MESHES = [
     ("blobs_mc.ply", "basic"),
@@ -27,8 +31,26 @@ def test_sodt_beats_every_vertex_moving_builtin_at_no_larger_distance(pm, tmp_pa
     by_key = {r.method.key: r for r in rows}
     # Every method ran and was measured; the built-ins are the ones listed.
     assert not [r.method.label for r in rows if r.error]
-    assert set(by_key) == {"sodt", "sodt_flips", "laplacian", "hc_laplacian", "taubin", "two_steps",
-                           "surface_preserving", "planar_flip", "isotropic", "isotropic_mean_edge"}
+    assert set(by_key) == {"sodt", "sodt_flips", "sodt_flips_repair", "laplacian", "hc_laplacian", "taubin",
+                           "two_steps", "surface_preserving", "planar_flip", "isotropic",
+                           "isotropic_mean_edge"}
+    # The repair row: its vertex count is what the filter reports it added and
+    # removed, and it does not lower the min angle of flips alone.
+    flips, repair = by_key["sodt_flips"], by_key["sodt_flips_repair"]
+    assert repair.method.params.get("repair") is True
+    assert flips.vertices == inp["vertices"] and flips.report["vertices_added"] == 0
+    assert repair.vertices == (inp["vertices"] + repair.report["vertices_added"]
+                               - repair.report["vertices_removed"])
+    assert repair.two_manifold
+    assert repair.min_angle >= flips.min_angle
+    if flips.min_angle < REPAIR_ANGLE:  # below the repair's target: the repair must act
+        assert (repair.report["repair_splits"] + repair.report["repair_collapses"]
+                + repair.report["repair_flips"]) > 0
+        assert repair.min_angle > flips.min_angle
+    verdict = pc.repair_verdict(inp, rows)
+    assert verdict is not None
+    assert verdict[2] == repair.report["vertices_added"] + repair.report["vertices_removed"]
+    assert verdict[3] == abs(by_key["isotropic_mean_edge"].vertices - inp["vertices"])
     sodt = by_key["sodt"]
     assert sodt.inverted_faces == 0
     assert (sodt.vertices, sodt.faces) == (inp["vertices"], inp["faces"])
