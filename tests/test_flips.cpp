@@ -75,16 +75,35 @@ int plainFlipPass(sodt::FaceList& faces, const std::vector<sodt::Vec3>& pos, con
   const auto feature = [&rules](int v) {
     return rules.cls && ((*rules.cls)[v] == sodt::VertexClass::Crease || (*rules.cls)[v] == sodt::VertexClass::Corner);
   };
-  // Along a crease: both ends feature vertices, and within 30 degrees of the
-  // direction of a crease end (undirected); corner-corner edges always.
+  // The angle (degrees) between v -> u and the line of v's crease, and
+  // which way along it u lies.
+  const auto offCrease = [&](int v, int u, int& side) {
+    const sodt::Vec3& d = (*rules.creaseDir)[v];
+    const double deg = sodt::angleBetween(pos[u] - pos[v], d) * sodt::kRadToDeg;
+    side = deg < 90 ? 1 : -1;
+    return std::min(deg, 180 - deg);
+  };
+  // Along a crease: both ends feature vertices, and at a crease end within
+  // 30 degrees of its crease line and no other neighbour on that side
+  // nearer the line (undirected); corner-corner edges always.
   const auto alongCrease = [&](int a, int b) {
     if (!feature(a) || !feature(b)) return false;
     if (!rules.creaseDir) return true;
     bool along = (*rules.cls)[a] == sodt::VertexClass::Corner && (*rules.cls)[b] == sodt::VertexClass::Corner;
     for (int v : {a, b}) {
       if ((*rules.cls)[v] != sodt::VertexClass::Crease) continue;
-      const double deg = sodt::angleBetween(pos[b] - pos[a], (*rules.creaseDir)[v]) * sodt::kRadToDeg;
-      along = along || std::min(deg, 180 - deg) <= 30 || (*rules.creaseDir)[v].SquaredNorm() == 0;
+      const int o = v == a ? b : a;
+      if ((*rules.creaseDir)[v].SquaredNorm() == 0 || pos[o] == pos[v]) {
+        along = true;
+        continue;
+      }
+      int side = 0, uSide = 0;
+      const double deg = offCrease(v, o, side);
+      bool nearest = deg <= 30;
+      for (const Half& h : he)
+        if (h.a == v && h.b != o && pos[h.b] != pos[v] && offCrease(v, h.b, uSide) < deg - 1e-9 && uSide == side)
+          nearest = false;
+      along = along || nearest;
     }
     return along;
   };
@@ -292,7 +311,9 @@ TEST(Flips, FeatureEdgeAlongACreaseNeverFlips) {
   // between two crease vertices: kept when the crease runs along x at
   // either end, or when both ends are corners, whatever the flip gains.
   const std::vector<sodt::Vec3> pos{{0, 0, 0}, {1, 0, 0}, {0.5, 0.05, 0}, {0.5, -1, 0}};
-  const sodt::Vec3 alongX(1, 0, 0), acrossX(0, 1, 0), tilted(std::cos(0.4), std::sin(0.4), 0);  // 23 degrees
+  // tilted: 23 degrees off x, away from c (which lies 6 degrees off x on
+  // the other side, so a-b stays the edge best aligned with the crease).
+  const sodt::Vec3 alongX(1, 0, 0), acrossX(0, 1, 0), tilted(std::cos(0.4), -std::sin(0.4), 0);
   using VC = sodt::VertexClass;
   struct Case {
     VC ca, cb;
@@ -340,6 +361,33 @@ TEST(Flips, FlatEdgeBetweenTwoCreaseLinesFlips) {
   EXPECT_EQ(fl.tri[1], (std::array<int, 3>{{3, 1, 2}}));
   const double after = sodt::pairMinAngle(pos[0], pos[3], pos[2], pos[3], pos[1], pos[2]);
   EXPECT_GT(after, before + 5 * sodt::kPi / 180);
+}
+
+TEST(Flips, FlatEdgeNearlyParallelToTwoCreaseLinesFlips) {
+  // A sliver pair spanning a flat strip between two crease lines along x
+  // (y = 0 and y = 0.2), as STL exports of CAD parts have: a-b runs from
+  // one line to the other only 3.9 degrees off their direction, but each
+  // end has a neighbour on its own line better aligned with the crease
+  // (c, d), so a-b is no crease edge, and the flip raises the pair's
+  // smallest angle from 3.9 to 10 degrees. An edge within 30 degrees of the
+  // crease direction alone used to be kept.
+  const std::vector<sodt::Vec3> pos{{0, 0, 0}, {2.9, 0.2, 0}, {2, 0, 0}, {0.9, 0.2, 0}};  // a, b, c, d
+  sodt::FaceList fl;
+  fl.tri = {{{0, 2, 1}}, {{1, 3, 0}}};
+  fl.live = {1, 1};
+  fl.flippable = {1, 1};
+  const double before = sodt::pairMinAngle(pos[0], pos[2], pos[1], pos[1], pos[3], pos[0]);
+  const std::vector<sodt::VertexClass> cls(4, sodt::VertexClass::Crease);
+  const std::vector<sodt::Vec3> dir(4, sodt::Vec3(1, 0, 0));
+  sodt::FlipRules rules;
+  rules.cls = &cls;
+  rules.creaseDir = &dir;
+  ASSERT_EQ(sodt::flipPass(fl, pos, rules), 1);
+  const std::array<int, 3>& t0 = fl.tri[0];
+  const std::array<int, 3>& t1 = fl.tri[1];
+  const double after = sodt::pairMinAngle(pos[t0[0]], pos[t0[1]], pos[t0[2]], pos[t1[0]], pos[t1[1]], pos[t1[2]]);
+  EXPECT_LT(before, 4 * sodt::kPi / 180);
+  EXPECT_GT(after, 9 * sodt::kPi / 180);
 }
 
 TEST(Flips, NewFacesKeepTheFaceTurnBound) {

@@ -83,32 +83,55 @@ inline bool flipKeepsInput(const InputSurface& in, const std::vector<Vec3>& pos,
   return true;
 }
 
+/// True when the edge v-o follows the crease through v: it lies within
+/// kCreaseEdgeMaxDeg of dir, v's crease direction, and no other neighbour
+/// of v on the same side of v (along dir) is better aligned with dir. The
+/// second test tells the crease's own edge from a flat edge nearly
+/// parallel to it, such as the long edge of a sliver spanning a flat face
+/// between two parallel feature lines. True for a zero dir or a
+/// zero-length edge (the safe side). around: see featureEdge.
+template <class Around>
+bool alongCrease(const std::vector<Vec3>& pos, int v, int o, const Vec3& dir, const Around& around) {
+  const double c = std::cos(kCreaseEdgeMaxDeg * kPi / 180.0);
+  const Vec3 e = pos[o] - pos[v];
+  const double ee = e.SquaredNorm(), dd = dir.SquaredNorm(), ed = e * dir;
+  if (!(ee > 0) || !(dd > 0)) return true;
+  // |cos(e, dir)| >= c, without a square root.
+  if (ed * ed < c * c * ee * dd) return false;
+  bool best = true;
+  around(v, [&](int u) {
+    if (u == o || !best) return;
+    const Vec3 w = pos[u] - pos[v];
+    const double wd = w * dir, ww = w.SquaredNorm();
+    // Same side, and cos^2(w, dir) > cos^2(e, dir).
+    if (wd * ed > 0 && wd * wd * ee > ed * ed * ww) best = false;
+  });
+  return best;
+}
+
 /// True when the edge a-b runs along a crease, as classified: both ends
 /// are crease or corner vertices, and the edge lies within
 /// kCreaseEdgeMaxDeg of the crease direction of a crease end (of either:
 /// near a corner or where two creases meet, one end following its crease
-/// is enough to keep the edge, the safe side). A corner
+/// is enough to keep the edge, the safe side) and is the edge of that end
+/// best aligned with its crease on its side (alongCrease). A corner
 /// has no direction, so an edge between two corners always counts (with
 /// no way to tell the feature edge that joins two corners from one across
 /// a face, it is kept, as flips always did); a corner-crease edge counts
 /// when it follows the crease end. A crease end without a direction (zero
 /// e3, or no creaseDir at all) and a zero-length edge count too.
-inline bool featureEdge(const FlipRules& rules, const std::vector<Vec3>& pos, int a, int b) {
+///
+/// around(v, visit) calls visit(u) for every neighbour u of v.
+template <class Around>
+bool featureEdge(const FlipRules& rules, const std::vector<Vec3>& pos, int a, int b, const Around& around) {
   if (!rules.cls) return false;
   const VertexClass ca = (*rules.cls)[a], cb = (*rules.cls)[b];
   const auto feature = [](VertexClass c) { return c == VertexClass::Crease || c == VertexClass::Corner; };
   if (!feature(ca) || !feature(cb)) return false;
   if (!rules.creaseDir || (ca == VertexClass::Corner && cb == VertexClass::Corner)) return true;
-  const double c = std::cos(kCreaseEdgeMaxDeg * kPi / 180.0);
-  const Vec3 e = pos[b] - pos[a];
-  const double ee = e.SquaredNorm();
-  for (int v : {a, b}) {
-    if ((*rules.cls)[v] != VertexClass::Crease) continue;
-    const Vec3& dir = (*rules.creaseDir)[v];
-    const double ed = e * dir;
-    // |cos(e, dir)| >= c, without a square root; true for e or dir zero.
-    if (ed * ed >= c * c * ee * dir.SquaredNorm()) return true;
-  }
+  for (int v : {a, b})
+    if ((*rules.cls)[v] == VertexClass::Crease && alongCrease(pos, v, v == a ? b : a, (*rules.creaseDir)[v], around))
+      return true;
   return false;
 }
 
@@ -246,7 +269,10 @@ inline int flipPass(FaceList& faces, const std::vector<Vec3>& pos, const FlipRul
       const double after = pairMinAngle(pa, pd, pc, pd, pb, pc);
       if (!(after > before + rules.minGainRad)) continue;
       if (exists(c, d) || exists(d, c) || created.count({std::min(c, d), std::max(c, d)})) continue;
-      if (featureEdge(rules, pos, a, b)) continue;
+      if (featureEdge(rules, pos, a, b, [&](int v, const auto& visit) {
+            for (int k = begin[v]; k < begin[v + 1]; ++k) visit(half[k].to);
+          }))
+        continue;
       if (rules.input && !flipKeepsInput(*rules.input, pos, a, b, c, d)) continue;
       const bool haveRef = refNormal && !refNormal->empty();
       Vec3 merged(0, 0, 0);

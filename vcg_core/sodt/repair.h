@@ -11,6 +11,7 @@
 #pragma once
 
 #include "classify.h"
+#include "flips.h"
 #include "geometry.h"
 #include "input_grid.h"
 #include "local_solve.h"
@@ -171,18 +172,22 @@ inline void LocalRepair::setUp(const std::vector<char>& movable, const std::vect
   for (int v = 0; v < nv; ++v)
     if (!movable[v] || deleted_[v]) role_[v] = Role::Fixed;
   const double cosFeature = std::cos(s_.featureRad);
-  const double cosAlong = std::cos(30 * kPi / 180);
   const auto featureClass = [&](int v) {
     return cls && ((*cls)[v] == VertexClass::Crease || (*cls)[v] == VertexClass::Corner);
   };
-  // Follows the crease of every crease end (a corner-corner edge counts).
-  const auto alongCrease = [&](int a, int b) {
+  const auto around = [this](int v, const auto& visit) {
+    for (int f : vf_[v])
+      for (int u : faces_.tri[f])
+        if (u != v) visit(u);
+  };
+  // Follows the crease of every crease end (a corner-corner edge counts;
+  // see sodt::alongCrease in flips.h).
+  const auto onCrease = [&](int a, int b) {
     if (!featureClass(a) || !featureClass(b) || !creaseDir) return false;
-    const Vec3 e = pos_[b] - pos_[a];
-    const double len = e.Norm();
-    if (!(len > 0)) return false;
+    if (!((pos_[b] - pos_[a]).SquaredNorm() > 0)) return false;
     for (int v : {a, b})
-      if ((*cls)[v] == VertexClass::Crease && std::abs(e * (*creaseDir)[v]) < cosAlong * len) return false;
+      if ((*cls)[v] == VertexClass::Crease && !alongCrease(pos_, v, v == a ? b : a, (*creaseDir)[v], around))
+        return false;
     return true;
   };
   for (int a = 0; a < nv; ++a) {
@@ -196,7 +201,7 @@ inline void LocalRepair::setUp(const std::vector<char>& movable, const std::vect
           const Vec3 n1 = doubleAreaVector(pos_[t1[0]], pos_[t1[1]], pos_[t1[2]]);
           const Vec3 n2 = doubleAreaVector(pos_[t2[0]], pos_[t2[1]], pos_[t2[2]]);
           const double l = n1.Norm() * n2.Norm();
-          feat = !(l > 0) || n1 * n2 < cosFeature * l || alongCrease(a, b);
+          feat = !(l > 0) || n1 * n2 < cosFeature * l || onCrease(a, b);
         }
         if (feat) feature_.insert(key(a, b));
       }
