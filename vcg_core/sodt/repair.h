@@ -417,6 +417,12 @@ inline bool LocalRepair::fixFace(int f, RepairReason& why) {
       return true;
     }
   }
+  // The long edge could not go without leaving the bound: split the
+  // middle one, which opens the small angle's other side instead.
+  if (worst == OverBound) {
+    ends(e[1], x, y);
+    if (note(trySplit(x, y))) return true;
+  }
   why = worst == OverBound ? RepairReason::Bound : worst == Topology ? RepairReason::NonManifold
                                                                      : RepairReason::Pinned;
   return false;
