@@ -606,7 +606,7 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "After each sweep an interior edge is flipped only when its two triangles are nearly "
                   "coplanar (see flip max dihedral) and the smaller angle of the pair grows; never a "
                   "crease edge of feature or denoise (both ends crease or corner vertices and the edge within "
-                  "30 degrees of the crease direction), never onto an "
+                  "30 degrees of the crease direction and the nearest to it), never onto an "
                   "existing edge (which would make it non-manifold), never into a fold, and with selected "
                   "only never unless both faces are selected or have all their vertices selected. Lifts "
                   "the minimum angle further than moving vertices alone.");
