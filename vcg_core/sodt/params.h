@@ -88,7 +88,7 @@ struct SodtParams {
   double epsilon = 2.0;
   /// Corner sensitivity eta of Eq. 10 (> 0): larger finds more corners among the creases.
   double eta = 2.0;
-  /// Deviation guard of every algorithm but Denoise: after a move, the
+  /// Deviation guard of every algorithm but Denoise and Filtered: after a move, the
   /// vertex and the centroids and edge midpoints of its faces must lie within
   /// this distance of the input surface around it (its one- and two-ring
   /// faces in the input mesh; of a neighbour with more than 32 faces around
@@ -96,8 +96,8 @@ struct SodtParams {
   /// diagonal (0 disables the check). Keeps vertices and faces from cutting
   /// across creases and bounds the Hausdorff distance to the input. Not used
   /// by Denoise, whose purpose is to leave the noisy input surface, nor with
-  /// Guard::None. For Filtered, the input surface is the one after its
-  /// normal filtering (the sweeps' input). Shown in percent by the CLI and the plugin (see paramTable()).
+  /// Guard::None, nor by Filtered, whose sweeps move tangentially on the
+  /// surface its normal filtering made. Shown in percent by the CLI and the plugin (see paramTable()).
   double maxDeviationRel = 0.001;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.
@@ -585,16 +585,15 @@ inline const std::vector<ParamSpec>& paramTable() {
     t[5].bind("maxDeviationRel", &SodtParams::maxDeviationRel).keys("maxDeviation", "max_deviation")
         .cli("--max-deviation", "PERCENT").reportAs("max_deviation_percent").dialog("Max deviation (% of bbox diagonal)")
         .shownIn("percent of the bounding-box diagonal", 100).range(0, 1)
-        .usedBy(kEveryAlgorithm & ~denoise)
+        .usedBy(kEveryAlgorithm & ~denoise & ~filtered)
         .describe("deviation guard: after a move, the vertex and the centroids and edge midpoints of its "
                   "faces must stay this close to the input surface around the vertex (0 disables it)",
                   "A step that would leave that bound is shortened or rejected like any guard veto. It keeps "
                   "faces from cutting across creases and bounds the distance to the input. The surface "
                   "around a vertex is its one- and two-ring faces in the input mesh (of a neighbour with "
                   "more than 32 faces around it, the 32 beside the vertex). Unused by denoise, whose "
-                  "purpose is to leave the noisy surface, and with guard none. With filtered, the surface "
-                  "is the one its normal filtering made, so the bound keeps the sweeps near the denoised "
-                  "surface and does not hold back the denoising.");
+                  "purpose is to leave the noisy surface, by filtered, whose sweeps move on the surface its "
+                  "normal filtering made, and with guard none.");
     t[6].bind("epsilon", &SodtParams::epsilon).keys("epsilon", "epsilon").cli("--epsilon", "X")
         .dialog("Crease sensitivity (epsilon)").range(0, 1e6, true, true).usedBy(feature | denoise | filtered)
         .describe("crease sensitivity epsilon of Eq. 10: larger finds more creases",
