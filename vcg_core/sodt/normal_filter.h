@@ -22,8 +22,10 @@ namespace sodt {
 /// More rounds remove more noise but flatten coarse curved meshes: each
 /// round starts from faces the round before already smoothed.
 constexpr int kFilterRounds = 2;
-/// Filtering passes over the face normals per round.
-constexpr int kNormalPasses = 10;
+/// Filtering passes over the face normals per round. On the noise
+/// benchmark ten passes brought the CAD parts 0.01-0.06x of the input's
+/// distance closer but left the coarse torus and spot 0.2-0.6x farther.
+constexpr int kNormalPasses = 5;
 /// Vertex-update iterations per round.
 constexpr int kVertexPasses = 10;
 /// Share of the tangential Laplacian step added to the vertex update of a
