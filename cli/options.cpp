@@ -208,7 +208,7 @@ const char* smoothNote(const sodt::ParamSpec& s) {
 /// The names of the algorithms that use a parameter: "feature and denoise".
 std::string algorithmNames(unsigned bits) {
   std::vector<std::string> names;
-  for (int a = 0; a <= static_cast<int>(sodt::Algorithm::Laplacian); ++a)
+  for (int a = 0; a <= static_cast<int>(sodt::Algorithm::Filtered); ++a)
     if (bits & sodt::algorithmBit(static_cast<sodt::Algorithm>(a)))
       names.push_back(sodt::toString(static_cast<sodt::Algorithm>(a)));
   std::string s;

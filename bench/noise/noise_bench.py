@@ -18,7 +18,8 @@ and scores its output against the CLEAN mesh:
   * min angle, share of angles below 30 degrees, faces turned by more than
     90 degrees against the clean mesh (`sodt stats`).
 
-Methods: `sodt smooth --algorithm denoise` (defaults), PyMeshLab 2025.7's
+Methods: `sodt smooth --algorithm denoise` and `--algorithm filtered`
+(defaults), PyMeshLab 2025.7's
 Taubin, TwoStep and HC Laplacian smoothing (their defaults) and MeshDenoiser
 (Debian's meshsdfilter-tools) with the default options of its upstream
 (DenoisingOptions.txt, see MESHDENOISER_OPTIONS).
@@ -55,6 +56,8 @@ import pymeshlab_compare as pc  # noqa: E402  (the project's PyMeshLab helpers)
 SIGMAS = (0.1, 0.2, 0.3, 0.5)
 SHARP_DEG = 60.0
 SODT = "sodt_denoise"
+SODT_FILTERED = "sodt_filtered"
+SODT_ALGORITHMS = {SODT: "denoise", SODT_FILTERED: "filtered"}
 # MeshDenoiser's options: those of DenoisingOptions.txt, the example option
 # file of MeshSDFilter (in Debian's meshsdfilter source package; the binary
 # package ships none). An empty option file would leave the library's
@@ -65,8 +68,8 @@ MESHDENOISER_OPTIONS = (("Lambda", 2), ("Eta", 1.5), ("Mu", 1.5), ("Nu", 0.3),
                         ("OuterIterations", 5))
 PYMESHLAB_KEYS = ("taubin", "two_steps", "hc_laplacian")
 MESHES = ("cube", "torus", "sphere", "fandisk", "spot")
-METHODS = (SODT,) + PYMESHLAB_KEYS + ("meshdenoiser",)
-LABELS = {"input": "noisy input", SODT: "sodt denoise", "taubin": "Taubin",
+METHODS = (SODT, SODT_FILTERED) + PYMESHLAB_KEYS + ("meshdenoiser",)
+LABELS = {"input": "noisy input", SODT: "sodt denoise", SODT_FILTERED: "sodt filtered", "taubin": "Taubin",
           "two_steps": "TwoStep", "hc_laplacian": "HC Laplacian", "meshdenoiser": "MeshDenoiser"}
 
 
@@ -242,10 +245,10 @@ def add_noise(clean, k):
 
 # ---------------------------------------------------------------- methods
 
-def run_sodt(sodt, noisy, out, threads):
+def run_sodt(sodt, noisy, out, threads, algorithm="denoise"):
     report = out + ".report.json"
     start = time.perf_counter()
-    subprocess.run([sodt, "smooth", noisy, out, "--algorithm", "denoise", "--threads", str(threads),
+    subprocess.run([sodt, "smooth", noisy, out, "--algorithm", algorithm, "--threads", str(threads),
                     "--distance", "off", "--report", report, "--quiet"], check=True,
                    capture_output=True, text=True)
     seconds = time.perf_counter() - start
@@ -310,8 +313,8 @@ def run_case(a, pm, clean, noisy, sigma, seed, rms, methods, folder):
         out = os.path.join(folder, f"{base}_{key}.ply")
         extra, error = {}, ""
         try:
-            if key == SODT:
-                seconds, extra = run_sodt(a.sodt, noisy, out, a.threads)
+            if key in SODT_ALGORITHMS:
+                seconds, extra = run_sodt(a.sodt, noisy, out, a.threads, SODT_ALGORITHMS[key])
                 extra["corner_share"] = extra["classes"]["corner"] / max(1, sum(extra["classes"].values()))
             elif key == "meshdenoiser":
                 seconds, extra = run_meshdenoiser(a.meshdenoiser, a.meshdenoiser_options, noisy, out)

@@ -234,9 +234,9 @@ std::string usedBy(const ParamSpec& s) {
   if (s.algorithms == sodt::kEveryAlgorithm) return "";
   std::string names;
   int n = 0, count = 0;
-  for (int a = 0; a <= static_cast<int>(sodt::Algorithm::Laplacian); ++a)
+  for (int a = 0; a <= static_cast<int>(sodt::Algorithm::Filtered); ++a)
     count += (s.algorithms & sodt::algorithmBit(static_cast<sodt::Algorithm>(a))) ? 1 : 0;
-  for (int a = 0; a <= static_cast<int>(sodt::Algorithm::Laplacian); ++a)
+  for (int a = 0; a <= static_cast<int>(sodt::Algorithm::Filtered); ++a)
     if (s.algorithms & sodt::algorithmBit(static_cast<sodt::Algorithm>(a)))
       names += std::string(n++ == 0 ? "" : n == count ? " and " : ", ") + "`" +
                sodt::toString(static_cast<sodt::Algorithm>(a)) + "`";

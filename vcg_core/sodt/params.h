@@ -25,6 +25,10 @@ enum class Algorithm : int {
   Denoise = 2,  ///< Algorithm 3: as Feature, on fitted planes and crease lines (removes noise)
   Odt = 3,      ///< reference: Eq. 3 with true areas, minimised numerically in the tangent plane
   Laplacian = 4,  ///< reference: Eq. 3 with S'_k = 1, i.e. the centroid of the one-ring
+  /// Denoising: face normals filtered with feature-preserving weights, the
+  /// vertices moved to match them (normal_filter.h), then Algorithm 2 on
+  /// the denoised surface
+  Filtered = 5,
 };
 
 /// Per-vertex class of the normal-tensor analysis (paper Eq. 9-10). The
@@ -84,7 +88,7 @@ struct SodtParams {
   double epsilon = 2.0;
   /// Corner sensitivity eta of Eq. 10 (> 0): larger finds more corners among the creases.
   double eta = 2.0;
-  /// Deviation guard of every algorithm but Denoise: after a move, the
+  /// Deviation guard of every algorithm but Denoise and Filtered: after a move, the
   /// vertex and the centroids and edge midpoints of its faces must lie within
   /// this distance of the input surface around it (its one- and two-ring
   /// faces in the input mesh; of a neighbour with more than 32 faces around
@@ -92,7 +96,8 @@ struct SodtParams {
   /// diagonal (0 disables the check). Keeps vertices and faces from cutting
   /// across creases and bounds the Hausdorff distance to the input. Not used
   /// by Denoise, whose purpose is to leave the noisy input surface, nor with
-  /// Guard::None. Shown in percent by the CLI and the plugin (see paramTable()).
+  /// Guard::None, nor by Filtered, whose sweeps move tangentially on the
+  /// surface its normal filtering made. Shown in percent by the CLI and the plugin (see paramTable()).
   double maxDeviationRel = 0.001;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.
@@ -133,7 +138,8 @@ struct SodtParams {
   double repairAngleDeg = 25.0;
   /// Edges whose faces' normals differ by more than this (degrees) are
   /// features: the repair never flips or collapses them and splits them
-  /// along themselves, so they stay chains of edges.
+  /// along themselves, so they stay chains of edges. Filtered's normal
+  /// filter keeps edges this sharp (see normal_filter.h).
   double featureAngleDeg = 30.0;
   /// Border vertices slide along the border (see boundary.h): to the
   /// minimiser of Eq. 5 over their open fan along the border direction,
@@ -249,6 +255,7 @@ inline const char* toString(Algorithm a) {
     case Algorithm::Denoise: return "denoise";
     case Algorithm::Odt: return "odt";
     case Algorithm::Laplacian: return "laplacian";
+    case Algorithm::Filtered: return "filtered";
   }
   return "?";
 }
@@ -261,14 +268,15 @@ inline Guard guardFromString(const std::string& s) {
   throw InvalidInput("unknown guard '" + s + "' (expected none, fold or quality)");
 }
 
-/// Parses "basic" | "feature" | "denoise" | "odt" | "laplacian"; throws InvalidInput otherwise.
+/// Parses "basic" | "feature" | "denoise" | "odt" | "laplacian" | "filtered"; throws InvalidInput otherwise.
 inline Algorithm algorithmFromString(const std::string& s) {
   if (s == "basic") return Algorithm::Basic;
   if (s == "feature") return Algorithm::Feature;
   if (s == "denoise") return Algorithm::Denoise;
   if (s == "odt") return Algorithm::Odt;
   if (s == "laplacian") return Algorithm::Laplacian;
-  throw InvalidInput("unknown algorithm '" + s + "' (expected basic, feature, denoise, odt or laplacian)");
+  if (s == "filtered") return Algorithm::Filtered;
+  throw InvalidInput("unknown algorithm '" + s + "' (expected basic, feature, denoise, odt, laplacian or filtered)");
 }
 
 inline const char* toString(VertexClass c) {
@@ -301,7 +309,7 @@ struct ParamChoice {
 
 /// Bit of an Algorithm in ParamSpec::algorithms.
 constexpr unsigned algorithmBit(Algorithm a) { return 1u << static_cast<int>(a); }
-constexpr unsigned kEveryAlgorithm = 0x1f;
+constexpr unsigned kEveryAlgorithm = 0x3f;
 
 /// One user-facing parameter of a smoothing run: its names in every front
 /// end, type, unit, range and help. The default is the SodtParams{} field's.
@@ -509,8 +517,11 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& feature
   feature.bind("featureAngleDeg", &SodtParams::featureAngleDeg).keys("featureAngle", "feature_angle")
       .cli("--feature-angle", "DEG").dialog("Feature angle (deg)").shownIn("degrees").range(0, 180)
       .describe("with repair: edges whose two faces' normals differ by more than this are features, kept as "
-                "chains of edges",
-                "With feature or denoise, edges along a classified crease are features too.");
+                "chains of edges; with filtered: the edges the normal filter keeps sharp",
+                "With feature, denoise or filtered, edges along a classified crease are features too. With filtered, "
+                "the range sigma of the normal filter is the difference of two unit normals half this angle "
+                "apart, so that faces on either side of an edge this sharp barely mix; smaller keeps more "
+                "edges (and more noise).");
 }
 
 }  // namespace detail
@@ -520,6 +531,7 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& feature
 inline const std::vector<ParamSpec>& paramTable() {
   static const std::vector<ParamSpec> table = [] {
     const unsigned feature = algorithmBit(Algorithm::Feature), denoise = algorithmBit(Algorithm::Denoise);
+    const unsigned filtered = algorithmBit(Algorithm::Filtered);  // its sweeps are Algorithm 2's
     std::vector<ParamSpec> t(20);
     t[0].bind("algorithm", &SodtParams::algorithm).keys("algorithm", "algorithm").cli("--algorithm", "NAME")
         .dialog("Algorithm")
@@ -539,7 +551,12 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "the tangent plane (similar quality, slower)"},
                  {toString(Algorithm::Laplacian), "Reference: Laplacian (Eq. 3, S'k = 1)",
                   "reference: the one-ring centroid (Eq. 3 with S'k = 1); leaves the tangent plane, so it "
-                  "shrinks the surface"}});
+                  "shrinks the surface"},
+                 {toString(Algorithm::Filtered), "Denoising: filtered normals, then S-ODT",
+                  "denoise: feature-preserving filtered normals, then S-ODT: the face normals are filtered "
+                  "with weights that keep edges sharper than the feature angle, the vertices move to match "
+                  "them, then feature-preserving S-ODT sweeps (Algorithm 2) improve the triangles on the "
+                  "denoised surface"}});
     t[1].bind("iterations", &SodtParams::iterations).keys("iterations", "iterations").cli("--iterations", "N")
         .dialog("Iterations").range(0, 100000)
         .describe("Gauss-Seidel sweeps over all movable vertices",
@@ -568,7 +585,7 @@ inline const std::vector<ParamSpec>& paramTable() {
     t[5].bind("maxDeviationRel", &SodtParams::maxDeviationRel).keys("maxDeviation", "max_deviation")
         .cli("--max-deviation", "PERCENT").reportAs("max_deviation_percent").dialog("Max deviation (% of bbox diagonal)")
         .shownIn("percent of the bounding-box diagonal", 100).range(0, 1)
-        .usedBy(kEveryAlgorithm & ~denoise)
+        .usedBy(kEveryAlgorithm & ~denoise & ~filtered)
         .describe("deviation guard: after a move, the vertex and the centroids and edge midpoints of its "
                   "faces must stay this close to the input surface around the vertex (0 disables it)",
                   "A step that would leave that bound is shortened or rejected like any guard veto. It keeps "
@@ -577,9 +594,10 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "within 1.25 times the bound of the output, so a tip or a sharp rim is not cut off. The surface "
                   "around a vertex is its one- and two-ring faces in the input mesh (of a neighbour with "
                   "more than 32 faces around it, the 32 beside the vertex). Unused by denoise, whose "
-                  "purpose is to leave the noisy surface, and with guard none.");
+                  "purpose is to leave the noisy surface, by filtered, whose sweeps move on the surface its "
+                  "normal filtering made, and with guard none.");
     t[6].bind("epsilon", &SodtParams::epsilon).keys("epsilon", "epsilon").cli("--epsilon", "X")
-        .dialog("Crease sensitivity (epsilon)").range(0, 1e6, true, true).usedBy(feature | denoise)
+        .dialog("Crease sensitivity (epsilon)").range(0, 1e6, true, true).usedBy(feature | denoise | filtered)
         .describe("crease sensitivity epsilon of Eq. 10: larger finds more creases",
                   "A vertex is a crease when epsilon (nu2 - nu3) is the largest of nu1 - nu2, "
                   "epsilon (nu2 - nu3) and epsilon eta nu3, where nu1 >= nu2 >= nu3 are the eigenvalues "
@@ -588,7 +606,7 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "acos(epsilon / (epsilon + 2)): 60 deg for 2 (the paper's value), 45 deg for 4.83, "
                   "70.5 deg for 1.");
     t[7].bind("eta", &SodtParams::eta).keys("eta", "eta").cli("--eta", "X").dialog("Corner sensitivity (eta)")
-        .range(0, 1e6, true, true).usedBy(feature | denoise)
+        .range(0, 1e6, true, true).usedBy(feature | denoise | filtered)
         .describe("corner sensitivity eta of Eq. 10: larger turns more crease vertices into corners",
                   "A vertex is a corner (where three or more sides meet) when epsilon eta nu3 is the "
                   "largest of the three terms of Eq. 10. Corners never move. The paper uses 2.");
@@ -605,8 +623,8 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "stay), which the paper keeps",
                   "After each sweep an interior edge is flipped only when its two triangles are nearly "
                   "coplanar (see flip max dihedral) and the smaller angle of the pair grows; never a "
-                  "crease edge of feature or denoise (both ends crease or corner vertices and the edge within "
-                  "30 degrees of the crease direction and the nearest to it), never onto an "
+                  "crease edge of feature, denoise or filtered (both ends crease or corner vertices and the "
+                  "edge within 30 degrees of the crease direction and the nearest to it), never onto an "
                   "existing edge (which would make it non-manifold), never into a fold, and with selected "
                   "only never unless both faces are selected or have all their vertices selected. Lifts "
                   "the minimum angle further than moving vertices alone.");
