@@ -136,22 +136,8 @@ TEST(Boundary, ACurvedBorderKeepsItsLength) {
   // A half cylinder of radius 1 (the angle along x, the axis along y) with
   // 16 segments around, jittered along the arcs: its two semicircular
   // borders slide along their curve.
-  const int na = 17, nl = 9;
   MeshD m;
-  vcg::tri::Allocator<MeshD>::AddVertices(m, na * nl);
-  std::mt19937 g(7);
-  for (int j = 0; j < nl; ++j)
-    for (int i = 0; i < na; ++i) {
-      double t = sodt::kPi * i / (na - 1);
-      if (i > 0 && i < na - 1) t += sodt_test::uniform(g, -0.4, 0.4) * sodt::kPi / (na - 1);
-      m.vert[j * na + i].P() = vcg::Point3d(std::cos(t), j * 0.25, std::sin(t));
-    }
-  for (int j = 0; j + 1 < nl; ++j)
-    for (int i = 0; i + 1 < na; ++i) {
-      const int a = j * na + i, b = a + 1, c = a + na, d = c + 1;
-      sodt_test::addFace(m, a, d, b);
-      sodt_test::addFace(m, a, c, d);
-    }
+  sodt_test::makeHalfCylinder(m, 16, 0.4, 7);
   const double before = sodt::borderLength(m);
   MeshD fixed;
   vcg::tri::Append<MeshD, MeshD>::MeshCopy(fixed, m);

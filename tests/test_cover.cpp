@@ -109,33 +109,14 @@ TEST(InputCover, SymmetricDistanceStaysNearTheBoundOnAJitteredCube) {
   }
 }
 
-/// A half cylinder (radius 1, the angle along x, the axis along y) whose
-/// vertices are jittered along the arcs, so its two semicircular borders
-/// are polylines of uneven chords. Sliding along the border evens them out:
-/// the new chords cut the input's corners, each within the one-way bound,
-/// but the input's border vertices between them end farther from the output.
-void makeJitteredHalfCylinder(sodt::MeshD& m, int segments, double jitter, unsigned seed) {
-  const int na = segments + 1, nl = 9;
-  vcg::tri::Allocator<sodt::MeshD>::AddVertices(m, na * nl);
-  std::mt19937 g(seed);
-  for (int j = 0; j < nl; ++j)
-    for (int i = 0; i < na; ++i) {
-      double t = sodt::kPi * i / (na - 1);
-      if (i > 0 && i < na - 1) t += sodt_test::uniform(g, -jitter, jitter) * sodt::kPi / (na - 1);
-      m.vert[j * na + i].P() = vcg::Point3d(std::cos(t), j * 0.25, std::sin(t));
-    }
-  for (int j = 0; j + 1 < nl; ++j)
-    for (int i = 0; i + 1 < na; ++i) {
-      const int a = j * na + i, b = a + 1, c = a + na, d = c + 1;
-      sodt_test::addFace(m, a, d, b);
-      sodt_test::addFace(m, a, c, d);
-    }
-}
-
+/// On a half cylinder whose vertices are jittered along the arcs, sliding
+/// along the border evens out the borders' chords: the new chords cut the
+/// input's corners, each within the one-way bound, but the input's border
+/// vertices between them end farther from the output.
 TEST(InputCover, SlidingBorderKeepsTheInputBorderCovered) {
   for (unsigned seed : {3u, 7u, 11u}) {
     sodt::MeshD input, out;
-    makeJitteredHalfCylinder(input, 24, 0.45, seed);
+    sodt_test::makeHalfCylinder(input, 24, 0.45, seed);
     vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(out, input);
     sodt::SodtParams p;
     p.slideBoundary = true;

@@ -170,6 +170,22 @@ sodt::FaceList flipGrid(int n, double jitter, double step, unsigned seed, std::v
   return fl;
 }
 
+/// One pass of flipPass over the pair of faces t0, t1 of pos, every vertex
+/// a crease vertex whose crease runs along x (the flat strips of a CAD
+/// part between parallel feature lines).
+int flipBetweenCreasesAlongX(sodt::FaceList& fl, const std::vector<sodt::Vec3>& pos, const std::array<int, 3>& t0,
+                             const std::array<int, 3>& t1) {
+  fl.tri = {t0, t1};
+  fl.live = {1, 1};
+  fl.flippable = {1, 1};
+  const std::vector<sodt::VertexClass> cls(pos.size(), sodt::VertexClass::Crease);
+  const std::vector<sodt::Vec3> dir(pos.size(), sodt::Vec3(1, 0, 0));
+  sodt::FlipRules rules;
+  rules.cls = &cls;
+  rules.creaseDir = &dir;
+  return sodt::flipPass(fl, pos, rules);
+}
+
 }  // namespace
 
 TEST(Flips, FlipPassFlipsWhatThePlainPassFlips) {
@@ -346,17 +362,9 @@ TEST(Flips, FlatEdgeBetweenTwoCreaseLinesFlips) {
   // both lines' direction, is no feature edge, and flipping it raises the
   // pair's smallest angle from 11 to 18 degrees.
   const std::vector<sodt::Vec3> pos{{0, 0, 0}, {1.5, 1, 0}, {0.5, 0, 0}, {-0.5, 1, 0}};  // a, b, c, d
-  sodt::FaceList fl;
-  fl.tri = {{{0, 1, 2}}, {{1, 0, 3}}};
-  fl.live = {1, 1};
-  fl.flippable = {1, 1};
   const double before = sodt::pairMinAngle(pos[0], pos[1], pos[2], pos[1], pos[0], pos[3]);
-  const std::vector<sodt::VertexClass> cls(4, sodt::VertexClass::Crease);
-  const std::vector<sodt::Vec3> dir(4, sodt::Vec3(1, 0, 0));
-  sodt::FlipRules rules;
-  rules.cls = &cls;
-  rules.creaseDir = &dir;
-  ASSERT_EQ(sodt::flipPass(fl, pos, rules), 1);
+  sodt::FaceList fl;
+  ASSERT_EQ(flipBetweenCreasesAlongX(fl, pos, {0, 1, 2}, {1, 0, 3}), 1);
   EXPECT_EQ(fl.tri[0], (std::array<int, 3>{{0, 3, 2}}));
   EXPECT_EQ(fl.tri[1], (std::array<int, 3>{{3, 1, 2}}));
   const double after = sodt::pairMinAngle(pos[0], pos[3], pos[2], pos[3], pos[1], pos[2]);
@@ -372,17 +380,9 @@ TEST(Flips, FlatEdgeNearlyParallelToTwoCreaseLinesFlips) {
   // smallest angle from 3.9 to 10 degrees. An edge within 30 degrees of the
   // crease direction alone used to be kept.
   const std::vector<sodt::Vec3> pos{{0, 0, 0}, {2.9, 0.2, 0}, {2, 0, 0}, {0.9, 0.2, 0}};  // a, b, c, d
-  sodt::FaceList fl;
-  fl.tri = {{{0, 2, 1}}, {{1, 3, 0}}};
-  fl.live = {1, 1};
-  fl.flippable = {1, 1};
   const double before = sodt::pairMinAngle(pos[0], pos[2], pos[1], pos[1], pos[3], pos[0]);
-  const std::vector<sodt::VertexClass> cls(4, sodt::VertexClass::Crease);
-  const std::vector<sodt::Vec3> dir(4, sodt::Vec3(1, 0, 0));
-  sodt::FlipRules rules;
-  rules.cls = &cls;
-  rules.creaseDir = &dir;
-  ASSERT_EQ(sodt::flipPass(fl, pos, rules), 1);
+  sodt::FaceList fl;
+  ASSERT_EQ(flipBetweenCreasesAlongX(fl, pos, {0, 2, 1}, {1, 3, 0}), 1);
   const std::array<int, 3>& t0 = fl.tri[0];
   const std::array<int, 3>& t1 = fl.tri[1];
   const double after = sodt::pairMinAngle(pos[t0[0]], pos[t0[1]], pos[t0[2]], pos[t1[0]], pos[t1[1]], pos[t1[2]]);

@@ -53,6 +53,30 @@ void addFace(M& m, int a, int b, int c) {
   fi->V(2) = &m.vert[c];
 }
 
+/// A half cylinder of radius 1 (the angle along x, the axis along y, 8
+/// rings 0.25 apart) with `segments` segments around, its inner vertices
+/// moved along the arcs by up to `jitter` segments: two semicircular
+/// borders of uneven chords.
+template <class M>
+void makeHalfCylinder(M& m, int segments, double jitter, unsigned seed) {
+  const int na = segments + 1, nl = 9;
+  vcg::tri::Allocator<M>::AddVertices(m, na * nl);
+  std::mt19937 g(seed);
+  const double pi = std::acos(-1.0);
+  for (int j = 0; j < nl; ++j)
+    for (int i = 0; i < na; ++i) {
+      double t = pi * i / (na - 1);
+      if (i > 0 && i < na - 1) t += uniform(g, -jitter, jitter) * pi / (na - 1);
+      m.vert[j * na + i].P() = vcg::Point3d(std::cos(t), j * 0.25, std::sin(t));
+    }
+  for (int j = 0; j + 1 < nl; ++j)
+    for (int i = 0; i + 1 < na; ++i) {
+      const int a = j * na + i, b = a + 1, c = a + na, d = c + 1;
+      addFace(m, a, d, b);
+      addFace(m, a, c, d);
+    }
+}
+
 /// Unit icosphere with `subdiv` midpoint subdivisions (10*4^s + 2 vertices).
 template <class M>
 void makeSphere(M& m, int subdiv) {
