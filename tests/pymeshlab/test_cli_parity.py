@@ -25,6 +25,7 @@ CASES = [
      ["--algorithm", "feature", "--max-deviation", "0.05", "--epsilon", "2.5"]),
     ("cube_noisy.ply", {"algorithm": "denoise", "max_normal_step": 0.07, "iterations": 7},
      ["--algorithm", "denoise", "--max-normal-step", "0.07", "--iterations", "7"]),
+    ("cube_noisy.ply", {"algorithm": "filtered", "iterations": 10}, ["--algorithm", "filtered", "--iterations", "10"]),
     ("plane_grid_open.ply", {"guard": "fold", "tolerance": 0.01}, ["--guard", "fold", "--tolerance", "0.01"]),
     ("shared:mol_a.ply", {}, []),
 ]
