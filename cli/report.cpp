@@ -258,9 +258,14 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
   else
     std::printf("  distance       Hausdorff %.3e, mean %.3e (relative to the input's bbox diagonal)\n",
                 dist.hausdorff, dist.mean);
-  std::printf("  face turn      at most %.3f deg from the input orientation (bound %s deg%s)\n", st.maxFaceTurnDeg,
-              numberText(o.params.maxFaceTurnDeg).c_str(),
-              o.params.guard == sodt::Guard::None || o.params.algorithm == sodt::Algorithm::Denoise ? ", unused" : "");
+  if (o.params.algorithm == sodt::Algorithm::Filtered && o.params.guard != sodt::Guard::None)
+    std::printf("  face turn      at most %.3f deg from the denoised surface's orientation (bound %s deg for the "
+                "filtered sweeps; --max-face-turn unused)\n",
+                st.maxFaceTurnDeg, numberText(sodt::kFilteredFaceTurnDeg).c_str());
+  else
+    std::printf("  face turn      at most %.3f deg from the input orientation (bound %s deg%s)\n", st.maxFaceTurnDeg,
+                numberText(o.params.maxFaceTurnDeg).c_str(),
+                o.params.guard == sodt::Guard::None || o.params.algorithm == sodt::Algorithm::Denoise ? ", unused" : "");
   if (inverted >= 0)
     std::printf("  inverted       %lld faces turned by more than 90 deg\n", inverted);
   else
