@@ -25,6 +25,8 @@ PACKAGES=(
   # MeshLab 2025.07 and PyMeshLab 2025.7 (scripts/build-meshlab-2025.sh), the
   # PyMeshLab tests (pytest with Debian's python3)
   ninja-build libglu1-mesa-dev pybind11-dev python3-dev python3-numpy python3-pytest
+  # the noise benchmark (bench/noise) and its test: MeshDenoiser, the figure
+  meshsdfilter-tools python3-matplotlib
 )
 
 if [ "$(id -u)" -eq 0 ] || [ "${SODT_APT_SOURCES_ONLY:-0}" = 1 ]; then

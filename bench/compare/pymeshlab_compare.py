@@ -313,12 +313,14 @@ def markdown_section(results, command):
     return "\n".join(out) + "\n"
 
 
-def replace_section(results_md, section):
-    """RESULTS.md with its PyMeshLab section replaced (appended when absent)."""
+def replace_section(results_md, section, begin=BEGIN_MARK, end=END_MARK):
+    """RESULTS.md with the section between the markers begin and end (by
+    default the PyMeshLab one) replaced, or appended when absent. Atomic (a
+    temporary file renamed)."""
     text = open(results_md, encoding="utf-8").read() if os.path.exists(results_md) else ""
-    b, e = text.find(BEGIN_MARK), text.find(END_MARK)
+    b, e = text.find(begin), text.find(end)
     if b >= 0 and e > b:
-        text = text[:b] + section + text[e + len(END_MARK):].lstrip("\n")
+        text = text[:b] + section + text[e + len(end):].lstrip("\n")
     else:
         text = text.rstrip("\n") + ("\n\n" if text else "") + section
     tmp = results_md + ".tmp"

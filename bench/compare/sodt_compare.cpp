@@ -67,19 +67,23 @@ std::string quoteArg(const std::string& a) {
 
 }  // namespace
 
-/// The PyMeshLab section of an existing RESULTS.md (written by
-/// pymeshlab_compare.py between its markers), to be kept when this tool
-/// rewrites the file; empty when there is none.
-static std::string pymeshlabSection(const std::string& resultsPath) {
+/// The sections other tools write into an existing RESULTS.md between
+/// their markers (pymeshlab_compare.py's PyMeshLab section, then
+/// noise_bench.py's noise benchmark), to be kept when this tool rewrites
+/// the file; empty when there are none.
+static std::string keptSections(const std::string& resultsPath) {
   std::ifstream in(resultsPath);
   if (!in) return std::string();
   std::ostringstream text;
   text << in.rdbuf();
   const std::string s = text.str();
-  const std::string begin = "<!-- pymeshlab-comparison:begin -->", end = "<!-- pymeshlab-comparison:end -->";
-  const std::size_t b = s.find(begin), e = s.find(end);
-  if (b == std::string::npos || e == std::string::npos || e < b) return std::string();
-  return "\n" + s.substr(b, e + end.size() - b) + "\n";
+  std::string kept;
+  for (const char* name : {"pymeshlab-comparison", "noise-benchmark"}) {
+    const std::string begin = std::string("<!-- ") + name + ":begin -->", end = std::string("<!-- ") + name + ":end -->";
+    const std::size_t b = s.find(begin), e = s.find(end);
+    if (b != std::string::npos && e != std::string::npos && e > b) kept += "\n" + s.substr(b, e + end.size() - b) + "\n";
+  }
+  return kept;
 }
 
 int main(int argc, char** argv) {
@@ -235,7 +239,7 @@ int main(int argc, char** argv) {
   try {
     writeFile(figDir + "/" + odtSummaryFile(), odtSummarySvg(reports, opt.iterations));
     writeFile(outDir + "/RESULTS.md", markdownReport(reports, opt, shown, mlLine, "figures") +
-                                          pymeshlabSection(outDir + "/RESULTS.md"));
+                                          keptSections(outDir + "/RESULTS.md"));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sodt_compare: %s\n", e.what());
     return 1;

@@ -30,10 +30,15 @@ icosphere made here (smooth, the scan-like case), and when ../shared/meshes
 exists beside the checkout also fandisk.ply, spot.ply (scan-like) and the
 shared fandisk_noise0.2.ply against fandisk.ply.
 
-  bench/noise/noise_bench.py [--out build/noise-bench]
+  bench/noise/noise_bench.py [--out build/noise-bench] [--results docs/RESULTS.md]
 
 writes results.md, results.json and distance.svg to --out, the noisy inputs
-and every output mesh under it.
+and every output mesh under it; with --results also the section "Noise
+benchmark" of docs/RESULTS.md (between its markers) and its figure. The
+tables open with the targets of `sodt filtered`: at sigma 0.2-0.5 mean
+distance <= 0.5x the input's and no worse than the best of Taubin and
+MeshDenoiser, sharp dihedral error no worse than theirs, min angle >= 20
+degrees, no inverted face; on the shared noisy fandisk <= 0.4x.
 """
 
 import argparse
@@ -379,6 +384,74 @@ def best_marked(rows, cases, methods, key):
     return best
 
 
+TARGET_SIGMAS = (0.2, 0.3, 0.5)
+TARGET_RIVALS = ("taubin", "meshdenoiser")
+RESULTS_BEGIN = "<!-- noise-benchmark:begin -->"
+RESULTS_END = "<!-- noise-benchmark:end -->"
+
+
+def target_checks(rows, method=SODT_FILTERED):
+    """The denoiser's targets, case by case: at sigma 0.2-0.5, mean distance
+    <= 0.5x the input's and <= the best of Taubin and MeshDenoiser, sharp
+    dihedral error <= theirs, min angle >= 20 degrees, no inverted face; on
+    the shared noisy fandisk, mean distance <= 0.4x. A list of (mesh, sigma,
+    [(label, value text, met or None when not measurable)])."""
+    out = []
+    cases = []
+    for x in rows:
+        if (x["mesh"], x["sigma"]) not in cases:
+            cases.append((x["mesh"], x["sigma"]))
+    for mesh, sigma in cases:
+        if sigma not in TARGET_SIGMAS and sigma != "shared":
+            continue
+        r = {x["method"]: x for x in rows if x["mesh"] == mesh and x["sigma"] == sigma and "error" not in x}
+        if method not in r:
+            continue
+        me = r[method]
+        checks = []
+        if sigma == "shared":
+            checks.append(("mean ≤ 0.4×", f"{me['mean_ratio']:.2f}×", me["mean_ratio"] <= 0.4))
+        else:
+            checks.append(("mean ≤ 0.5×", f"{me['mean_ratio']:.2f}×", me["mean_ratio"] <= 0.5))
+            rivals = [r[m] for m in TARGET_RIVALS if m in r]
+            if rivals:
+                best = min(x["mean_ratio"] for x in rivals)
+                checks.append(("mean ≤ best rival", f"{me['mean_ratio']:.2f}× vs {best:.2f}×",
+                               me["mean_ratio"] <= best))
+                dh = [x["sharp_dihedral_err_deg"] for x in rivals if x.get("sharp_dihedral_err_deg") is not None]
+                if me.get("sharp_dihedral_err_deg") is not None and dh:
+                    checks.append(("dihedral ≤ best rival", f"{me['sharp_dihedral_err_deg']:.1f}° vs {min(dh):.1f}°",
+                                   me["sharp_dihedral_err_deg"] <= min(dh)))
+            checks.append(("min angle ≥ 20°", f"{me['min_angle']:.1f}°", me["min_angle"] >= 20))
+            checks.append(("no inverted face", f"{me['inverted']}", me["inverted"] == 0))
+        out.append((mesh, sigma, checks))
+    return out
+
+
+def targets_markdown(rows, method=SODT_FILTERED):
+    """The target checks as a table, and a count."""
+    checks = target_checks(rows, method)
+    if not checks:
+        return []
+    met = sum(ok for _m, _s, cs in checks for _l, _v, ok in cs)
+    total = sum(len(cs) for _m, _s, cs in checks)
+    out = [f"**The targets of `{LABELS[method]}`** (rivals: the best of "
+           f"{' and '.join(LABELS[m] for m in TARGET_RIVALS)} on the same input; ✓ met, ✗ not met): "
+           f"{met} of {total} met.", "",
+           "| mesh | σ | " + " | ".join(lbl for lbl, _v, _ok in checks[0][2]) + " |",
+           "|---|---:|" + "---|" * len(checks[0][2])]
+    for mesh, sigma, cs in checks:
+        by = {lbl: (v, ok) for lbl, v, ok in cs}
+        cells = []
+        for lbl, _v, _ok in checks[0][2]:
+            v, ok = by.get(lbl, ("–", None))
+            cells.append("–" if ok is None else f"{'✓' if ok else '✗'} {v}")
+        if sigma == "shared":
+            cells = [f"{'✓' if cs[0][2] else '✗'} {cs[0][1]} (target ≤ 0.4×)"] + ["–"] * (len(checks[0][2]) - 1)
+        out.append(f"| {mesh} | {sigma} | " + " | ".join(cells) + " |")
+    return out
+
+
 def markdown(rows, meta, methods):
     cases = []
     for x in rows:
@@ -400,6 +473,8 @@ def markdown(rows, meta, methods):
            "`../shared/meshes/fandisk_noise0.2.ply` as it is). Distances are relative to the clean "
            "mesh's bounding-box diagonal; normal and dihedral errors are face by face and edge by "
            "edge against the clean mesh (same connectivity); bold: the best method of the row.", ""]
+    if SODT_FILTERED in methods:
+        out += targets_markdown(rows) + [""]
     out += pivot(rows, cases, methods,
                  lambda x: bold_if(x, "mean_ratio", best_ratio, ".2f"),
                  "Mean distance to the clean mesh,", "× the noisy input's (input column: % of the "
@@ -473,6 +548,26 @@ def figure(rows, path, methods):
     plt.close(fig)
 
 
+def results_section(md, figure_rel):
+    """The benchmark's markdown as a section of docs/RESULTS.md, between
+    markers, with the figure."""
+    lines = md.rstrip("\n").split("\n")
+    assert lines[0] == "# Noise benchmark"
+    body = lines[1:]
+    at = next((i for i, x in enumerate(body) if x.startswith("Generated ")), 0) + 1
+    fig = ["", f"![Mean distance to the clean mesh against the noise level, per mesh and method]({figure_rel})",
+           "", "*Mean distance to the clean mesh (% of its diagonal, log scale) against σ; dashed: the noisy "
+           "input.*"]
+    return "\n".join([RESULTS_BEGIN, "", "## Noise benchmark: denoisers against the clean mesh"] +
+                      body[:at] + fig + body[at:] + ["", RESULTS_END]) + "\n"
+
+
+def replace_results(path, section):
+    """Writes section into the RESULTS.md at path: in place of the old one
+    between the markers, or appended."""
+    pc.replace_section(path, section, RESULTS_BEGIN, RESULTS_END)
+
+
 def package_version(name):
     r = subprocess.run(["dpkg-query", "-W", "-f=${Version}", name], capture_output=True, text=True)
     return r.stdout.strip() or "unknown"
@@ -502,6 +597,9 @@ def main(argv=None):
                     "%(default)s")
     ap.add_argument("--threads", type=int, default=1, help="threads of sodt (default 1; the "
                     "result is the same for any count)")
+    ap.add_argument("--results", help="also write the tables and the figure as the noise "
+                    "benchmark section of this RESULTS.md (docs/RESULTS.md; the figure goes to "
+                    "figures/noise-distance.svg beside it)")
     a = ap.parse_args(argv)
     started = time.perf_counter()
     methods = [m for m in a.methods.split(",") if m]
@@ -570,6 +668,12 @@ def main(argv=None):
         f.write(markdown(rows, meta, methods))
     figure(rows, os.path.join(a.out, "distance.svg"), methods)
     log(f"wrote results.md, results.json and distance.svg to {a.out} in {meta['minutes']:.1f} min")
+    if a.results:
+        figures = os.path.join(os.path.dirname(os.path.abspath(a.results)), "figures")
+        os.makedirs(figures, exist_ok=True)
+        shutil.copyfile(os.path.join(a.out, "distance.svg"), os.path.join(figures, "noise-distance.svg"))
+        replace_results(a.results, results_section(markdown(rows, meta, methods), "figures/noise-distance.svg"))
+        log(f"wrote the noise benchmark section of {a.results} and figures/noise-distance.svg beside it")
     return 0
 
 
