@@ -187,8 +187,10 @@ const char* const kStatsIntro =
     "Prints as JSON: vertices, faces, closed, min_angle, max_angle, angle_histogram\n"
     "(180 one-degree bins of all corner angles), frac_below_30, frac_above_90,\n"
     "p1_tri_min_angle (1st percentile of the per-triangle smallest angle), volume\n"
-    "(null when the mesh is not closed and consistently oriented) and border_length\n"
-    "(the length of the edges with one face; 0 for a closed mesh).\n";
+    "(null when the mesh is not closed and consistently oriented), border_length\n"
+    "(the length of the edges with one face; 0 for a closed mesh) and noise_estimate\n"
+    "(the noise along the normals in mean edge lengths, from how well a quadric\n"
+    "through each vertex's two-ring predicts it; below 0.05: nearly noise-free).\n";
 
 /// What `sodt smooth --help` adds to a table entry's text: the command
 /// line's own side of the parameter.

@@ -3,6 +3,7 @@
 // and `sodt stats` (see report.h).
 #include "report.h"
 
+#include <sodt/noise_estimate.h>
 #include <sodt/output.h>
 
 #include <nlohmann/json.hpp>
@@ -43,6 +44,7 @@ void writeMeasures(Json& j, const Measures& s) {
   j["p1_tri_min_angle"] = number(s.angles.p1TriMinDeg);
   j["volume"] = s.volume.closed ? number(s.volume.volume) : Json(nullptr);
   j["border_length"] = number(s.borderLength);
+  j["noise_estimate"] = number(s.noiseEdges);
 }
 
 /// Writes hausdorff_rel, mean_distance_rel (null when unknown) and
@@ -107,7 +109,19 @@ Measures measure(const MeshD& m, int threads) {
   r.angles = sodt::computeAngleStats(m, threads);
   r.volume = sodt::enclosedVolume(m, threads);
   r.borderLength = sodt::borderLength(m);
+  r.noiseEdges = noiseLevel(m);
   return r;
+}
+
+double noiseLevel(const MeshD& m) {
+  const sodt::FaceList faces = sodt::makeFaceList(m);
+  std::vector<char> deleted(m.vert.size(), 0);
+  std::vector<sodt::Vec3> pos(m.vert.size(), sodt::Vec3(0, 0, 0));
+  for (std::size_t i = 0; i < m.vert.size(); ++i) {
+    deleted[i] = m.vert[i].IsD();
+    if (!deleted[i]) pos[i] = sodt::Vec3(m.vert[i].cP()[0], m.vert[i].cP()[1], m.vert[i].cP()[2]);
+  }
+  return sodt::estimateNoise(faces, sodt::buildRingTopology(faces, deleted), pos).sigmaEdges;
 }
 
 
@@ -238,6 +252,7 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
   std::printf("  angles > 90    %s -> %s\n", percent(before.angles.fracAbove90).c_str(),
               percent(after.angles.fracAbove90).c_str());
   std::printf("  p1 tri min     %.3f -> %.3f deg\n", before.angles.p1TriMinDeg, after.angles.p1TriMinDeg);
+  std::printf("  noise          %.3f -> %.3f mean edges (estimated)\n", before.noiseEdges, after.noiseEdges);
   if (before.borderLength > 0)
     std::printf("  border length  %.10g -> %.10g (relative change %+.3e)\n", before.borderLength, after.borderLength,
                 (after.borderLength - before.borderLength) / before.borderLength);

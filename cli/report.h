@@ -25,7 +25,13 @@ struct Measures {
   sodt::AngleStats angles;
   sodt::VolumeResult volume;
   double borderLength = 0;  ///< length of the edges of one face (0 for a closed mesh)
+  /// Estimated noise along the normals, in mean edge lengths
+  /// (sodt::estimateNoise; NaN when too few vertices qualify).
+  double noiseEdges = 0;
 };
+
+/// The noise estimate of m (sodt::estimateNoise), in mean edge lengths.
+double noiseLevel(const MeshD& m);
 
 /// On threads threads (the measures do not depend on their number).
 Measures measure(const MeshD& m, int threads);

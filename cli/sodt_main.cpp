@@ -8,6 +8,7 @@
 #include "report.h"
 
 #include <sodt/classify.h>
+#include <sodt/noise_estimate.h>
 #include <sodt_io/io.h>
 #include <sodt_io/mesh.h>
 #include <sodt/params.h>
@@ -212,6 +213,13 @@ int runSmooth(const SmoothOptions& o) {
                  "sodt: warning: %d vertices stayed fixed: their faces are non-manifold (an edge with three or "
                  "more faces, a pinch) or cannot be given one winding (a Moebius band)\n",
                  st.fixedNonManifold);
+  const bool denoiser = o.params.algorithm == sodt::Algorithm::Denoise || o.params.algorithm == sodt::Algorithm::Filtered;
+  if (!o.quiet && denoiser && r.before.noiseEdges < sodt::kLittleNoiseEdges)
+    std::fprintf(stderr,
+                 "sodt: warning: the input looks nearly noise-free (noise estimated at %.3f mean edges): %s "
+                 "removes noise, and on a clean mesh it mostly smooths the shape; 'feature' improves the "
+                 "triangles and keeps the surface\n",
+                 r.before.noiseEdges, sodt::toString(o.params.algorithm));
   return kExitOk;
 }
 

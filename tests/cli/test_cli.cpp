@@ -813,12 +813,35 @@ TEST_F(CliTest, StatsPrintsJson) {
   EXPECT_GT(jsonNumber(r.out, "volume"), 0.0) << "outward orientation gives a positive volume";
   EXPECT_EQ(jsonArrayLength(r.out, "angle_histogram"), 180);
   EXPECT_EQ(r.out.find("hausdorff_rel"), std::string::npos) << "only with --reference";
+  EXPECT_LT(jsonNumber(r.out, "noise_estimate"), 0.05) << "every vertex lies on the sphere";
 
   const std::string file = dir_ / "stats.json";
   const RunResult f = runSodt({"stats", in_, "--json", file}, dir_);
   ASSERT_EQ(f.exitCode, 0) << f.err;
   EXPECT_TRUE(f.out.empty());
   EXPECT_EQ(readFile(file), r.out);
+}
+
+TEST_F(CliTest, DenoisersWarnOnANearlyNoiseFreeInput) {
+  // The fixture's sphere has bad angles but no noise: denoising it would
+  // mostly smooth its shape, and both denoisers say so; feature does not.
+  for (const char* algorithm : {"filtered", "denoise"}) {
+    const RunResult r = runSodt({"smooth", in_, dir_ / "out.ply", "--algorithm", algorithm}, dir_);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: the input looks nearly noise-free"), std::string::npos) << algorithm << r.err;
+    EXPECT_NE(r.out.find("noise          0.0"), std::string::npos) << r.out;
+  }
+  const RunResult f = runSodt({"smooth", in_, dir_ / "out.ply", "--algorithm", "feature"}, dir_);
+  ASSERT_EQ(f.exitCode, 0) << f.err;
+  EXPECT_EQ(f.err.find("noise-free"), std::string::npos) << f.err;
+  // The bundled noisy cube gets no warning (it reads 0.13 edges).
+  const std::string noisy = std::string(SODT_MESH_DIR) + "/cube_noisy.ply";
+  const RunResult n = runSodt({"smooth", noisy, dir_ / "out.ply", "--algorithm", "filtered"}, dir_);
+  ASSERT_EQ(n.exitCode, 0) << n.err;
+  EXPECT_EQ(n.err.find("noise-free"), std::string::npos) << n.err;
+  const RunResult st = runSodt({"stats", noisy}, dir_);
+  ASSERT_EQ(st.exitCode, 0) << st.err;
+  EXPECT_GT(jsonNumber(st.out, "noise_estimate"), 0.08) << st.out;
 }
 
 TEST_F(CliTest, StatsAgainstItselfHasZeroDistance) {
