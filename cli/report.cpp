@@ -109,20 +109,10 @@ Measures measure(const MeshD& m, int threads) {
   r.angles = sodt::computeAngleStats(m, threads);
   r.volume = sodt::enclosedVolume(m, threads);
   r.borderLength = sodt::borderLength(m);
-  r.noiseEdges = noiseLevel(m);
+  r.noiseEdges = sodt::estimateNoiseOf(m).sigmaEdges;
   return r;
 }
 
-double noiseLevel(const MeshD& m) {
-  const sodt::FaceList faces = sodt::makeFaceList(m);
-  std::vector<char> deleted(m.vert.size(), 0);
-  std::vector<sodt::Vec3> pos(m.vert.size(), sodt::Vec3(0, 0, 0));
-  for (std::size_t i = 0; i < m.vert.size(); ++i) {
-    deleted[i] = m.vert[i].IsD();
-    if (!deleted[i]) pos[i] = sodt::Vec3(m.vert[i].cP()[0], m.vert[i].cP()[1], m.vert[i].cP()[2]);
-  }
-  return sodt::estimateNoise(faces, sodt::buildRingTopology(faces, deleted), pos).sigmaEdges;
-}
 
 
 

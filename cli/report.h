@@ -30,9 +30,6 @@ struct Measures {
   double noiseEdges = 0;
 };
 
-/// The noise estimate of m (sodt::estimateNoise), in mean edge lengths.
-double noiseLevel(const MeshD& m);
-
 /// On threads threads (the measures do not depend on their number).
 Measures measure(const MeshD& m, int threads);
 

@@ -6,6 +6,7 @@
 #include "sodt_rich_params.h"
 
 #include <sodt/classify.h>
+#include <sodt/noise_estimate.h>
 #include <sodt_io/metrics.h>
 #include <sodt/output.h>
 #include <sodt/params.h>
@@ -411,6 +412,15 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
     const int measureThreads = sodt::resolveThreads(p.threads);
     run.before = sodt::computeAngleStats(m, measureThreads);
     run.volBefore = sodt::enclosedVolume(m, measureThreads);
+    if (p.algorithm == sodt::Algorithm::Denoise || p.algorithm == sodt::Algorithm::Filtered) {
+      const double noise = sodt::estimateNoiseOf(m).sigmaEdges;
+      if (noise < sodt::kLittleNoiseEdges)
+        log(LogLevel::Warning,
+            strFormat("S-ODT: the mesh looks nearly noise-free (noise estimated at %.3f mean edges): %s removes "
+                      "noise, and on a clean mesh it mostly smooths the shape; 'Feature-preserving' improves the "
+                      "triangles and keeps the surface",
+                      noise, sodt::toString(p.algorithm)));
+    }
 
     // The faces' vertex references, to tell whether the returned state has
     // other faces (keepBest may return a state from before the flips).

@@ -214,19 +214,6 @@ TEST(Filtered, SweepsTurnFacesUpToTheirOwnBoundWhateverTheFaceTurnParameter) {
   EXPECT_LT(meanCubeDistance(a), 0.5 * meanCubeDistance(noisy));
 }
 
-namespace {
-
-/// estimateNoise on m, through the arrays the core works on.
-sodt::NoiseEstimate noiseOf(const sodt::MeshD& m) {
-  const sodt::FaceList faces = sodt::makeFaceList(m);
-  std::vector<char> deleted(m.vert.size(), 0);
-  std::vector<sodt::Vec3> pos;
-  for (const auto& v : m.vert) pos.push_back(v.cP());
-  return sodt::estimateNoise(faces, sodt::buildRingTopology(faces, deleted), pos);
-}
-
-}  // namespace
-
 TEST(NoiseEstimate, ReadsTheNoiseNotTheCurvature) {
   // Clean: flat sides read 0; a coarse torus (16 segments around its tube)
   // and a sphere read little, though their faces turn 22 and 12 degrees
@@ -236,7 +223,7 @@ TEST(NoiseEstimate, ReadsTheNoiseNotTheCurvature) {
   sodt_test::makeSphere(sphere, 4);
   sodt::loadMesh(std::string(SODT_MESH_DIR) + "/torus.off", torus);
   for (const sodt::MeshD* m : {&cube, &sphere, &torus}) {
-    const sodt::NoiseEstimate e = noiseOf(*m);
+    const sodt::NoiseEstimate e = sodt::estimateNoiseOf(*m);
     EXPECT_GE(e.samples, 400);
     EXPECT_LT(e.sigmaEdges, sodt::kLittleNoiseEdges) << m->vn << " vertices";
   }
@@ -248,7 +235,7 @@ TEST(NoiseEstimate, ReadsTheNoiseNotTheCurvature) {
       sodt::MeshD m;
       vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(m, *clean);
       addNormalNoise(m, sigma, 7);
-      const double e = noiseOf(m).sigmaEdges;
+      const double e = sodt::estimateNoiseOf(m).sigmaEdges;
       std::printf("%d vertices, noise %.2f edges: estimated %.3f\n", m.vn, sigma, e);
       EXPECT_GT(e, 0.8 * sigma);
       EXPECT_LT(e, (clean == &cube ? 1.6 : 1.3) * sigma);
@@ -259,7 +246,7 @@ TEST(NoiseEstimate, ReadsTheNoiseNotTheCurvature) {
 TEST(NoiseEstimate, TooSmallAMeshGivesNoEstimate) {
   sodt::MeshD m;
   sodt_test::makeCube(m, 1);  // 8 vertices: no vertex has 9 two-ring neighbours
-  const sodt::NoiseEstimate e = noiseOf(m);
+  const sodt::NoiseEstimate e = sodt::estimateNoiseOf(m);
   EXPECT_EQ(e.samples, 0);
   EXPECT_TRUE(std::isnan(e.sigmaEdges));
 }

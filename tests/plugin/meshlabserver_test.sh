@@ -285,9 +285,15 @@ case "$MODE" in
     [ "$RC" -eq 0 ] || fail "meshlabserver exited with $RC"
     [ -s "$OUT" ] || fail "no output mesh written"
     grep -q "LOG: 2 S-ODT: algorithm denoise," "$LOG" || fail "the log does not show algorithm denoise"
+    ! grep -q "nearly noise-free" "$LOG" || fail "the noisy cube was taken for a clean mesh"
     run_checker --classes "$NOISY" "$OUT"
     run_checker --cube-denoise "$NOISY" "$OUT"
-    pass "denoising S-ODT ran on $(basename "$NOISY") and wrote class codes"
+    # The same script on the clean (tangentially jittered) cube: a warning.
+    run_server -i "$CUBE" -o "$WORK/clean_out.ply" -m vq vc -s "$DEN"
+    [ "$RC" -eq 0 ] || fail "meshlabserver exited with $RC on the clean cube"
+    grep -q "S-ODT: the mesh looks nearly noise-free (noise estimated at 0.000 mean edges): denoise" "$LOG" \
+      || fail "denoising the clean cube gave no warning"
+    pass "denoising S-ODT ran on $(basename "$NOISY") and wrote class codes; it warns on a clean cube"
     ;;
 
   bad-epsilon)

@@ -107,4 +107,18 @@ inline NoiseEstimate estimateNoise(const FaceList& faces, const RingTopology& to
   return out;
 }
 
+/// estimateNoise on a vcglib mesh (any scalar type); deleted vertices and
+/// faces are left out.
+template <class MeshType>
+NoiseEstimate estimateNoiseOf(const MeshType& m) {
+  const FaceList faces = makeFaceList(m);
+  std::vector<char> deleted(m.vert.size(), 0);
+  std::vector<Vec3> pos(m.vert.size(), Vec3(0, 0, 0));
+  for (std::size_t i = 0; i < m.vert.size(); ++i) {
+    deleted[i] = m.vert[i].IsD();
+    if (!deleted[i]) pos[i] = Vec3(m.vert[i].cP()[0], m.vert[i].cP()[1], m.vert[i].cP()[2]);
+  }
+  return estimateNoise(faces, buildRingTopology(faces, deleted), pos);
+}
+
 }  // namespace sodt
