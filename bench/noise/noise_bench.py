@@ -295,7 +295,7 @@ def measure(pm, sodt, clean, path, before=None):
     r = {"mean_rel": st["mean_distance_rel"], "hausdorff_rel": st["hausdorff_rel"],
          "normal_err_deg": normal, "sharp_dihedral_err_deg": dihedral,
          "min_angle": st["min_angle"], "frac_below_30": st["frac_below_30"],
-         "inverted": st["inverted_faces"]}
+         "inverted": st["inverted_faces"], "noise_estimate": st.get("noise_estimate")}
     if before is not None and normal is not None:
         still = np.all(V == before, axis=1)
         err = np.linalg.norm(V - clean.V, axis=1)
@@ -502,15 +502,17 @@ def markdown(rows, meta, methods):
                  with_input=lambda x: f"{fmt(x['min_angle'], '.1f')}° / "
                  f"{fmt(100 * x['frac_below_30'], '.1f')}% / {fmt(x['inverted'], 'd')}")
     out.append("")
-    out += ["**Vertices `sodt smooth --algorithm denoise` classifies as corners** (corners never "
+    out += ["**The noise, as made and as `sodt stats` estimates it** (`noise_estimate`, mean edges), "
+            "**the vertices `sodt smooth --algorithm denoise` classifies as corners** (corners never "
             "move), the vertices it leaves where they were and their share of the summed distances "
             "from each vertex to its clean position, and the seconds of each method (whole call):", "",
-            "| mesh | σ | noise RMS (edges) | corners, clean | corners, noisy | sodt: unmoved | "
+            "| mesh | σ | noise RMS (edges) | estimated | corners, clean | corners, noisy | sodt: unmoved | "
             "their error share | " + " | ".join(f"s {LABELS[m]}" for m in methods) + " |",
-            "|---|---:|---:|---:|---:|---:|---:|" + "---:|" * len(methods)]
+            "|---|---:|---:|---:|---:|---:|---:|---:|" + "---:|" * len(methods)]
     for mesh, sigma in cases:
         r = {x["method"]: x for x in rows if x["mesh"] == mesh and x["sigma"] == sigma}
         out.append(f"| {mesh} | {sigma} | {fmt(r['input']['noise_rms_edges'], '.3f')} | "
+                   f"{fmt(r['input'].get('noise_estimate'), '.3f')} | "
                    f"{100 * meta['clean_corner_share'][mesh]:.2f}% | "
                    f"{100 * r['input']['corner_share']:.1f}% | " +
                    " | ".join(fmt(100 * r[SODT][k], ".1f") + "%" if SODT in r and k in r[SODT] else "–"
