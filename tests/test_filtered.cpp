@@ -250,3 +250,13 @@ TEST(NoiseEstimate, TooSmallAMeshGivesNoEstimate) {
   EXPECT_EQ(e.samples, 0);
   EXPECT_TRUE(std::isnan(e.sigmaEdges));
 }
+
+TEST(NoiseEstimate, PassesOverBorderVertices) {
+  // A flat open grid: only vertices with a closed fan are predicted (a
+  // border vertex would be extrapolated), and the flat grid reads 0.
+  sodt::MeshD m;
+  sodt_test::makeGrid(m, 20, 0.0, 1);
+  const sodt::NoiseEstimate e = sodt::estimateNoiseOf(m);
+  EXPECT_EQ(e.samples, (20 - 2) * (20 - 2));
+  EXPECT_LT(e.sigmaEdges, 1e-9);
+}

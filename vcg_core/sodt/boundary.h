@@ -33,22 +33,6 @@ struct OpenFan {
   std::vector<int> faces;  ///< indices into the face list
 };
 
-/// Per vertex, the live faces around it (index lists in CSR form).
-struct IncidentFaces {
-  std::vector<int> begin, face;
-  IncidentFaces(const FaceList& faces, int nv) : begin(static_cast<std::size_t>(nv) + 1, 0) {
-    for (std::size_t f = 0; f < faces.tri.size(); ++f)
-      if (faces.live[f])
-        for (int v : faces.tri[f]) ++begin[static_cast<std::size_t>(v) + 1];
-    for (int v = 0; v < nv; ++v) begin[v + 1] += begin[v];
-    face.resize(begin[nv]);
-    std::vector<int> fill(begin.begin(), begin.end() - 1);
-    for (std::size_t f = 0; f < faces.tri.size(); ++f)
-      if (faces.live[f])
-        for (int v : faces.tri[f]) face[fill[v]++] = static_cast<int>(f);
-  }
-};
-
 /// The open fan of v when its faces form exactly one chain (two border
 /// edges at v); false otherwise (a closed ring, or several fans: more than
 /// two border edges, which keeps v fixed).

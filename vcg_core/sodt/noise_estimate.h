@@ -32,39 +32,56 @@ struct NoiseEstimate {
   int samples = 0;                                                ///< vertices whose prediction counted
 };
 
-/// The noise level of the surface at pos (interior vertices of topo).
-/// Vertices with fewer than 9 two-ring neighbours, or whose fit is
+/// The noise level of the surface of the live faces, with the position of
+/// vertex i given by pos(i) (a Vec3). Only vertices with a closed manifold
+/// fan (each neighbour in exactly two of its faces) are sampled, and only
+/// their two-rings are gathered, so a large mesh costs one pass over its
+/// faces. Vertices with fewer than 9 two-ring neighbours, or whose fit is
 /// degenerate, are passed over; fewer than 10 usable vertices give NaN.
-inline NoiseEstimate estimateNoise(const FaceList& faces, const RingTopology& topo, const std::vector<Vec3>& pos) {
+template <class PosFn>
+NoiseEstimate estimateNoise(const FaceList& faces, int nv, PosFn pos) {
   NoiseEstimate out;
   double edgeSum = 0;
   long long edges = 0;
   for (std::size_t f = 0; f < faces.tri.size(); ++f) {
     if (!faces.live[f]) continue;
     for (int k = 0; k < 3; ++k) {
-      edgeSum += (pos[faces.tri[f][k]] - pos[faces.tri[f][(k + 1) % 3]]).Norm();
+      edgeSum += (pos(faces.tri[f][k]) - pos(faces.tri[f][(k + 1) % 3])).Norm();
       ++edges;
     }
   }
   const double meanEdge = edges ? edgeSum / double(edges) : 0.0;
   if (!(meanEdge > 0) || !std::isfinite(meanEdge)) return out;
+  const IncidentFaces inc(faces, nv);
+  const std::vector<int>& vb = inc.begin;
+  const std::vector<int>& vf = inc.face;
+  // The one-ring of v; false unless every neighbour is in exactly two of
+  // v's faces (an interior vertex of a manifold).
+  std::vector<int> pairs;
+  auto ring = [&](int v, std::vector<int>& nb) {
+    pairs.clear();
+    for (int k = vb[v]; k < vb[v + 1]; ++k)
+      for (int w : faces.tri[vf[k]])
+        if (w != v) pairs.push_back(w);
+    std::sort(pairs.begin(), pairs.end());
+    bool closed = !pairs.empty();
+    for (std::size_t a = 0; a < pairs.size(); a += 2) closed = closed && a + 1 < pairs.size() &&
+                                                                  pairs[a] == pairs[a + 1] &&
+                                                                  (a + 2 >= pairs.size() || pairs[a + 2] != pairs[a]);
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    nb.insert(nb.end(), pairs.begin(), pairs.end());
+    return closed;
+  };
 
-  std::vector<int> interior;
-  for (std::size_t i = 0; i < topo.kind.size(); ++i)
-    if (topo.kind[i] == VertexKind::Interior) interior.push_back(static_cast<int>(i));
-  const std::size_t stride = std::max<std::size_t>(1, interior.size() / kNoiseSamples);
-
+  const int sampled = std::min(nv, kNoiseSamples);
   std::vector<double> errors;
-  std::vector<int> ring2;
-  for (std::size_t s = 0; s < interior.size(); s += stride) {
-    const int i = interior[s];
-    ring2.clear();
-    for (int a = topo.ringBegin[i]; a < topo.ringBegin[i + 1]; ++a) {
-      const int j = topo.ringIdx[a];
-      ring2.push_back(j);
-      if (topo.kind[j] != VertexKind::Interior) continue;
-      for (int b = topo.ringBegin[j]; b < topo.ringBegin[j + 1]; ++b) ring2.push_back(topo.ringIdx[b]);
-    }
+  std::vector<int> ring1, ring2;
+  for (int s = 0; s < sampled; ++s) {
+    const int i = static_cast<int>((static_cast<long long>(s) * nv) / sampled);
+    ring1.clear();
+    if (vb[i] == vb[i + 1] || !ring(i, ring1)) continue;
+    ring2 = ring1;
+    for (int j : ring1) ring(j, ring2);
     std::sort(ring2.begin(), ring2.end());
     ring2.erase(std::unique(ring2.begin(), ring2.end()), ring2.end());
     ring2.erase(std::remove(ring2.begin(), ring2.end(), i), ring2.end());
@@ -72,23 +89,23 @@ inline NoiseEstimate estimateNoise(const FaceList& faces, const RingTopology& to
     if (n < 9) continue;
     // The frame: the plane of the neighbours (least-variance direction).
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int j : ring2) c += Eigen::Vector3d(pos[j][0], pos[j][1], pos[j][2]);
+    for (int j : ring2) c += Eigen::Vector3d(pos(j)[0], pos(j)[1], pos(j)[2]);
     c /= n;
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
     for (int j : ring2) {
-      const Eigen::Vector3d d = Eigen::Vector3d(pos[j][0], pos[j][1], pos[j][2]) - c;
+      const Eigen::Vector3d d = Eigen::Vector3d(pos(j)[0], pos(j)[1], pos(j)[2]) - c;
       cov += d * d.transpose();
     }
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
     const Eigen::Vector3d nrm = es.eigenvectors().col(0), u = es.eigenvectors().col(2), v = es.eigenvectors().col(1);
     // Height field z = a + bx + cy + dx^2 + exy + fy^2 around x_i, in
     // mean edges; the prediction error at x_i is |a|.
-    const Eigen::Vector3d xi(pos[i][0], pos[i][1], pos[i][2]);
+    const Eigen::Vector3d xi(pos(i)[0], pos(i)[1], pos(i)[2]);
     Eigen::MatrixXd A(n, 6);
     Eigen::VectorXd z(n);
     for (int r = 0; r < n; ++r) {
       const int j = ring2[r];
-      const Eigen::Vector3d d = (Eigen::Vector3d(pos[j][0], pos[j][1], pos[j][2]) - xi) / meanEdge;
+      const Eigen::Vector3d d = (Eigen::Vector3d(pos(j)[0], pos(j)[1], pos(j)[2]) - xi) / meanEdge;
       const double x = d.dot(u), y = d.dot(v);
       A.row(r) << 1.0, x, y, x * x, x * y, y * y;
       z[r] = d.dot(nrm);
@@ -107,18 +124,15 @@ inline NoiseEstimate estimateNoise(const FaceList& faces, const RingTopology& to
   return out;
 }
 
-/// estimateNoise on a vcglib mesh (any scalar type); deleted vertices and
-/// faces are left out.
+/// estimateNoise on a vcglib mesh (any scalar type); deleted faces are
+/// left out.
 template <class MeshType>
 NoiseEstimate estimateNoiseOf(const MeshType& m) {
   const FaceList faces = makeFaceList(m);
-  std::vector<char> deleted(m.vert.size(), 0);
-  std::vector<Vec3> pos(m.vert.size(), Vec3(0, 0, 0));
-  for (std::size_t i = 0; i < m.vert.size(); ++i) {
-    deleted[i] = m.vert[i].IsD();
-    if (!deleted[i]) pos[i] = Vec3(m.vert[i].cP()[0], m.vert[i].cP()[1], m.vert[i].cP()[2]);
-  }
-  return estimateNoise(faces, buildRingTopology(faces, deleted), pos);
+  return estimateNoise(faces, static_cast<int>(m.vert.size()), [&m](int i) {
+    const auto& p = m.vert[i].cP();
+    return Vec3(p[0], p[1], p[2]);
+  });
 }
 
 }  // namespace sodt

@@ -67,16 +67,9 @@ struct FaceNeighbourhoods {
 
   void build(const FaceList& faces, int nv) {
     const int nf = static_cast<int>(faces.tri.size());
-    std::vector<int> vb(nv + 1, 0), vf;  // faces of each vertex
-    for (int f = 0; f < nf; ++f)
-      if (faces.live[f])
-        for (int v : faces.tri[f]) ++vb[v + 1];
-    for (int v = 0; v < nv; ++v) vb[v + 1] += vb[v];
-    vf.resize(vb[nv]);
-    std::vector<int> fill(vb.begin(), vb.end() - 1);
-    for (int f = 0; f < nf; ++f)
-      if (faces.live[f])
-        for (int v : faces.tri[f]) vf[fill[v]++] = f;
+    const IncidentFaces inc(faces, nv);  // faces of each vertex
+    const std::vector<int>& vb = inc.begin;
+    const std::vector<int>& vf = inc.face;
     begin.assign(nf + 1, 0);
     idx.clear();
     edge.assign(nf, {-1, -1, -1});
@@ -278,18 +271,7 @@ inline void filteredDenoise(const FaceList& faces, const std::vector<char>& mova
   const int nv = static_cast<int>(pos.size());
   FaceNeighbourhoods nb;
   nb.build(faces, nv);
-  std::vector<int> vb(nv + 1, 0), vf;
-  for (std::size_t f = 0; f < faces.tri.size(); ++f)
-    if (faces.live[f])
-      for (int v : faces.tri[f]) ++vb[v + 1];
-  for (int v = 0; v < nv; ++v) vb[v + 1] += vb[v];
-  vf.resize(vb[nv]);
-  {
-    std::vector<int> fill(vb.begin(), vb.end() - 1);
-    for (std::size_t f = 0; f < faces.tri.size(); ++f)
-      if (faces.live[f])
-        for (int v : faces.tri[f]) vf[fill[v]++] = static_cast<int>(f);
-  }
+  const IncidentFaces inc(faces, nv);
   FaceFrame fr;
   fr.compute(faces, pos);
   double dsum = 0;
@@ -309,7 +291,7 @@ inline void filteredDenoise(const FaceList& faces, const std::vector<char>& mova
     if (round > 0) fr.compute(faces, pos);
     std::vector<Vec3> n = fr.normal;
     for (int pass = 0; pass < s.normalPasses; ++pass) n = filterNormalsOnce(nb, fr, n, s, threads);
-    matchNormals(faces, vb, vf, n, movable, s.vertexPasses, kTangentialStep, std::cos(featureAngleDeg * kPi / 360.0), pos);
+    matchNormals(faces, inc.begin, inc.face, n, movable, s.vertexPasses, kTangentialStep, std::cos(featureAngleDeg * kPi / 360.0), pos);
   }
 }
 

@@ -56,6 +56,22 @@ struct FaceList {
   std::vector<char> flippable;  ///< the selection allows flipping this face
 };
 
+/// Per vertex, the live faces around it (index lists in CSR form).
+struct IncidentFaces {
+  std::vector<int> begin, face;
+  IncidentFaces(const FaceList& faces, int nv) : begin(static_cast<std::size_t>(nv) + 1, 0) {
+    for (std::size_t f = 0; f < faces.tri.size(); ++f)
+      if (faces.live[f])
+        for (int v : faces.tri[f]) ++begin[static_cast<std::size_t>(v) + 1];
+    for (int v = 0; v < nv; ++v) begin[v + 1] += begin[v];
+    face.resize(begin[nv]);
+    std::vector<int> fill(begin.begin(), begin.end() - 1);
+    for (std::size_t f = 0; f < faces.tri.size(); ++f)
+      if (faces.live[f])
+        for (int v : faces.tri[f]) face[fill[v]++] = static_cast<int>(f);
+  }
+};
+
 /// The faces of m as index triples; with selectedOnly a face is flippable
 /// only when it is selected or all its vertices are.
 template <class MeshType>
