@@ -113,7 +113,12 @@ NoiseEstimate estimateNoise(const FaceList& faces, int nv, PosFn pos) {
     const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
     if (qr.rank() < 6) continue;
     const double a = qr.solve(z)[0];
-    if (std::isfinite(a)) errors.push_back(std::abs(a));
+    // The fitted quadric's own noise adds to the error at x_i: its
+    // variance at the prediction point is s^2 (A^T A)^-1_00 for noise s at
+    // the neighbours, so the error's variance is s^2 (1 + that).
+    const Eigen::Matrix<double, 6, 6> ata = A.transpose() * A;
+    const double lever = ata.inverse()(0, 0);
+    if (std::isfinite(a) && std::isfinite(lever) && lever >= 0) errors.push_back(std::abs(a) / std::sqrt(1 + lever));
   }
   out.samples = static_cast<int>(errors.size());
   if (out.samples < 10) return out;
