@@ -3,6 +3,7 @@
 // and `sodt stats` (see report.h).
 #include "report.h"
 
+#include <sodt/filter_select.h>
 #include <sodt/noise_estimate.h>
 #include <sodt/output.h>
 
@@ -263,10 +264,11 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
   else
     std::printf("  distance       Hausdorff %.3e, mean %.3e (relative to the input's bbox diagonal)\n",
                 dist.hausdorff, dist.mean);
+  if (o.params.algorithm == sodt::Algorithm::Filtered) std::printf("  filter         %s\n", sodt::describe(st.filter).c_str());
   if (o.params.algorithm == sodt::Algorithm::Filtered && o.params.guard != sodt::Guard::None)
     std::printf("  face turn      at most %.3f deg from the denoised surface's orientation (bound %s deg for the "
                 "filtered sweeps; --max-face-turn unused)\n",
-                st.maxFaceTurnDeg, numberText(sodt::kFilteredFaceTurnDeg).c_str());
+                st.maxFaceTurnDeg, numberText(sodt::filteredFaceTurnDeg(st.filter.kind)).c_str());
   else
     std::printf("  face turn      at most %.3f deg from the input orientation (bound %s deg%s)\n", st.maxFaceTurnDeg,
                 numberText(o.params.maxFaceTurnDeg).c_str(),
@@ -362,6 +364,16 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   writeDistance(j, dist);
   j["inverted_faces"] = inverted >= 0 ? Json(inverted) : Json(nullptr);
   j["max_face_turn_deg"] = number(st.maxFaceTurnDeg);
+  if (o.params.algorithm == sodt::Algorithm::Filtered) {
+    Json f;
+    f["kind"] = sodt::toString(st.filter.kind);
+    f["steps"] = st.filter.steps;
+    f["noise_level"] = number(st.filter.noiseEdges);
+    f["noise_estimated"] = st.filter.noiseEstimated;
+    f["risk"] = number(st.filter.risk);
+    f["risk_unfiltered"] = number(st.filter.riskNone);
+    j["filter"] = f;
+  }
   j["moved"] = st.moved;
   j["backtracked"] = st.backtracked;
   j["fallback_moves"] = st.fallbackMoves;

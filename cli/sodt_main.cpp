@@ -213,13 +213,21 @@ int runSmooth(const SmoothOptions& o) {
                  "sodt: warning: %d vertices stayed fixed: their faces are non-manifold (an edge with three or "
                  "more faces, a pinch) or cannot be given one winding (a Moebius band)\n",
                  st.fixedNonManifold);
-  const bool denoiser = o.params.algorithm == sodt::Algorithm::Denoise || o.params.algorithm == sodt::Algorithm::Filtered;
-  if (!o.quiet && denoiser && r.before.noiseEdges < sodt::kLittleNoiseEdges)
+  if (!o.quiet && o.params.algorithm == sodt::Algorithm::Denoise && r.before.noiseEdges < sodt::kLittleNoiseEdges)
     std::fprintf(stderr,
-                 "sodt: warning: the input looks nearly noise-free (noise estimated at %.3f mean edges): %s "
+                 "sodt: warning: the input looks nearly noise-free (noise estimated at %.3f mean edges): denoise "
                  "removes noise, and on a clean mesh it mostly smooths the shape; 'feature' improves the "
                  "triangles and keeps the surface\n",
-                 r.before.noiseEdges, sodt::toString(o.params.algorithm));
+                 r.before.noiseEdges);
+  // Filtered scores its filters against the noise and mostly applies none
+  // to a clean mesh; it warns when it filtered one all the same.
+  if (!o.quiet && o.params.algorithm == sodt::Algorithm::Filtered && st.filter.kind != sodt::FilterKind::None &&
+      st.filter.noiseEdges < sodt::kLittleNoiseEdges)
+    std::fprintf(stderr,
+                 "sodt: warning: the input looks nearly noise-free (noise estimated at %.3f mean edges) but "
+                 "filtering still scored better (%s); on a clean mesh that mostly smooths the shape: 'feature' "
+                 "improves the triangles and keeps the surface, or set --noise-level\n",
+                 st.filter.noiseEdges, sodt::describeFilter(st.filter).c_str());
   return kExitOk;
 }
 

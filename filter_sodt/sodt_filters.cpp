@@ -6,6 +6,7 @@
 #include "sodt_rich_params.h"
 
 #include <sodt/classify.h>
+#include <sodt/filter_select.h>
 #include <sodt/noise_estimate.h>
 #include <sodt_io/metrics.h>
 #include <sodt/output.h>
@@ -297,6 +298,15 @@ void logSmoothing(const SmoothingRun& run, const LogFn& log) {
                                 p.maxBacktracks, yesNo(p.laplacianFallback), yesNo(p.selectedOnly)));
   if (p.algorithm != sodt::Algorithm::Basic)
     log(LogLevel::Info, strFormat("S-ODT: epsilon %g, eta %g", p.epsilon, p.eta));
+  if (p.algorithm == sodt::Algorithm::Filtered) {
+    log(LogLevel::Info, "S-ODT: filter: " + sodt::describe(s.filter));
+    if (s.filter.kind != sodt::FilterKind::None && s.filter.noiseEdges < sodt::kLittleNoiseEdges)
+      log(LogLevel::Warning,
+          strFormat("S-ODT: the mesh looks nearly noise-free (noise estimated at %.3f mean edges) but filtering "
+                    "still scored better (%s); on a clean mesh that mostly smooths the shape: 'Feature-preserving' "
+                    "improves the triangles and keeps the surface, or set the noise level",
+                    s.filter.noiseEdges, sodt::describeFilter(s.filter).c_str()));
+  }
   if (p.algorithm == sodt::Algorithm::Denoise)
     log(LogLevel::Info, strFormat("S-ODT: max normal step %g x mean edge length", p.maxNormalStepRel));
   else if (p.guard != sodt::Guard::None && p.maxDeviationRel > 0 && p.algorithm != sodt::Algorithm::Filtered)
@@ -412,7 +422,7 @@ Report applySmoothing(MeshModel& mm, const RichParameterList& par, vcg::CallBack
     const int measureThreads = sodt::resolveThreads(p.threads);
     run.before = sodt::computeAngleStats(m, measureThreads);
     run.volBefore = sodt::enclosedVolume(m, measureThreads);
-    if (p.algorithm == sodt::Algorithm::Denoise || p.algorithm == sodt::Algorithm::Filtered) {
+    if (p.algorithm == sodt::Algorithm::Denoise) {  // filtered's own warning follows its run
       const double noise = sodt::estimateNoiseOf(m).sigmaEdges;
       if (noise < sodt::kLittleNoiseEdges)
         log(LogLevel::Warning,

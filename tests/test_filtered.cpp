@@ -7,11 +7,14 @@
 #include "test_mesh.h"
 
 #include <sodt/noise_estimate.h>
+#include <sodt/filter_select.h>
 #include <sodt/normal_filter.h>
 #include <sodt_io/io.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/prebuilt.h>
 
+#include <vcg/complex/algorithms/smooth.h>
+#include <vcg/complex/algorithms/update/flag.h>
 #include <vcg/complex/algorithms/update/normal.h>
 
 #include <gtest/gtest.h>
@@ -161,17 +164,15 @@ TEST(Filtered, BorderVerticesStayAndAFlatGridStaysFlat) {
 }
 
 TEST(Filtered, RangeSigmaFollowsTheFeatureAngle) {
-  // The filter's sigmas come from the mesh and the feature angle alone.
+  // The normal filter's sigmas come from the mesh and the feature angle alone.
   sodt::MeshD m;
   sodt_test::makeCube(m, 4);
   sodt::FaceList faces = sodt::makeFaceList(m);
   std::vector<sodt::Vec3> pos;
   for (const auto& v : m.vert) pos.push_back(sodt::Vec3::Construct(v.cP()));
   std::vector<char> movable(pos.size(), 1);
-  sodt::NormalFilterSettings s30, s60;
-  std::vector<sodt::Vec3> a = pos, b = pos;
-  sodt::filteredDenoise(faces, movable, 30.0, 1, a, &s30);
-  sodt::filteredDenoise(faces, movable, 60.0, 1, b, &s60);
+  const sodt::NormalFilterRounds r30(faces, movable, 30.0, pos, 1), r60(faces, movable, 60.0, pos, 1);
+  const sodt::NormalFilterSettings &s30 = r30.settings(), &s60 = r60.settings();
   EXPECT_NEAR(s30.sigmaRange, 2 * std::sin(7.5 * M_PI / 180), 1e-12);
   EXPECT_NEAR(s60.sigmaRange, 2 * std::sin(15 * M_PI / 180), 1e-12);
   EXPECT_EQ(s30.sigmaSpatial, s60.sigmaSpatial);
@@ -180,6 +181,8 @@ TEST(Filtered, RangeSigmaFollowsTheFeatureAngle) {
   // The clean cube stays the cube: vertices move within its faces, and the
   // faces of two sides, 90 degrees apart, mix with weight exp(-|n1 - n2|^2 /
   // 2 sigma_r^2) = exp(-14.7) only.
+  std::vector<sodt::Vec3> a = pos;
+  for (int k = 0; k < 4; ++k) r30.round(a);
   for (std::size_t i = 0; i < pos.size(); ++i) EXPECT_LT(std::abs(cubeDistance(a[i])), 1e-5) << i;
 }
 
@@ -259,4 +262,171 @@ TEST(NoiseEstimate, PassesOverBorderVertices) {
   const sodt::NoiseEstimate e = sodt::estimateNoiseOf(m);
   EXPECT_EQ(e.samples, (20 - 2) * (20 - 2));
   EXPECT_LT(e.sigmaEdges, 1e-9);
+}
+
+namespace {
+
+std::vector<sodt::Vec3> positions(const sodt::MeshD& m) {
+  std::vector<sodt::Vec3> pos;
+  for (const auto& v : m.vert) pos.push_back(sodt::Vec3::Construct(v.cP()));
+  return pos;
+}
+
+/// Runs filtered's first stage alone on m (every vertex movable).
+sodt::FilterChoice firstStage(sodt::MeshD& m, double noiseLevel = 0, int threads = 1) {
+  const sodt::FaceList faces = sodt::makeFaceList(m);
+  std::vector<sodt::Vec3> pos = positions(m);
+  const std::vector<char> movable(pos.size(), 1);
+  const sodt::FilterChoice c = sodt::filteredDenoise(faces, movable, 30.0, noiseLevel, threads, pos);
+  for (std::size_t i = 0; i < pos.size(); ++i) m.vert[i].P() = vcg::Point3d(pos[i][0], pos[i][1], pos[i][2]);
+  return c;
+}
+
+/// Mean squared difference of a and the clean positions along unit normals n.
+double errorAlong(const std::vector<sodt::Vec3>& a, const std::vector<sodt::Vec3>& clean,
+                  const std::vector<sodt::Vec3>& n) {
+  double s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double d = n[i] * (a[i] - clean[i]);
+    s += d * d;
+  }
+  return s / double(a.size());
+}
+
+}  // namespace
+
+TEST(FilterSelect, UmbrellaStepsAreTaubinSmoothing) {
+  // A pair of umbrella steps is vcglib's Taubin step (MeshLab's Taubin
+  // smoothing) with the same lambda and mu.
+  sodt::MeshD m, ref;
+  sodt_test::makeSphere(m, 3);
+  addNormalNoise(m, 0.3, 5);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(ref, m);
+  vcg::tri::UpdateFlags<sodt::MeshD>::FaceBorderFromNone(ref);
+  vcg::tri::Smooth<sodt::MeshD>::VertexCoordTaubin(ref, 7, float(sodt::kTaubinLambda), float(sodt::kTaubinMu));
+  const sodt::FaceList faces = sodt::makeFaceList(m);
+  std::vector<sodt::Vec3> pos = positions(m);
+  const std::vector<char> movable(pos.size(), 1);
+  const sodt::UmbrellaSmoother u(faces, movable, m.vn, 2);
+  for (int k = 0; k < 7; ++k) u.pair(pos);
+  double moved = 0;
+  for (int i = 0; i < m.vn; ++i) {
+    moved = std::max(moved, (pos[i] - sodt::Vec3::Construct(m.vert[i].cP())).Norm());
+    // vcglib takes lambda and mu as floats.
+    EXPECT_LT((pos[i] - sodt::Vec3::Construct(ref.vert[i].cP())).Norm(), 1e-6) << i;
+  }
+  EXPECT_GT(moved, 0.01);
+}
+
+TEST(FilterSelect, RiskEstimatesTheErrorToTheCleanSurface) {
+  // Stein's unbiased risk estimate of Taubin smoothing (a linear filter)
+  // against the true mean squared error along the normals, for noise
+  // along the normals of a sphere, at lengths from too short to too long.
+  sodt::MeshD clean, m;
+  sodt_test::makeSphere(clean, 5);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(m, clean);
+  addNormalNoise(m, 0.3, 77);
+  const std::vector<sodt::Vec3> y = positions(m), c = positions(clean);
+  std::vector<sodt::Vec3> n;
+  for (const sodt::Vec3& p : c) n.push_back(p / p.Norm());
+  // The noise as drawn (a few percent off the 0.3 edges asked for).
+  const double sigma = std::sqrt(errorAlong(y, c, n));
+  const sodt::FaceList faces = sodt::makeFaceList(m);
+  const std::vector<char> movable(y.size(), 1);
+  const sodt::UmbrellaSmoother u(faces, movable, m.vn, 1);
+  const sodt::detail::RiskProbe probe(y, n, movable, sigma);
+  std::vector<sodt::Vec3> f = y, fp = probe.probed();
+  const double input = errorAlong(y, c, n);
+  double best = 1e9;
+  int bestAt = 0;
+  for (int k = 1; k <= 60; ++k) {
+    u.pair(f);
+    u.pair(fp);
+    if (k % 5 && k != 1) continue;
+    const double risk = probe.risk(f, fp), truth = errorAlong(f, c, n);
+    std::printf("%2d pairs: risk %.3e, true error %.3e (input %.3e)\n", k, risk, truth, input);
+    // It is unbiased, but for one draw of the noise and of the probe it
+    // strayed by up to 0.3 of the error at 60 pairs, 0.02 of the input's
+    // (six draws).
+    EXPECT_NEAR(risk, truth, 0.2 * truth + 0.02 * input) << k << " pairs";
+    if (truth < best) best = truth, bestAt = k;
+  }
+  EXPECT_GT(bestAt, 1);  // the lengths span the optimum
+  EXPECT_LT(bestAt, 60);
+  EXPECT_NEAR(probe.riskOfNone(), input, 1e-12 * input);
+}
+
+TEST(FilterSelect, PicksTaubinOnACoarseTorusAndTheNormalFilterOnANoisyCube) {
+  // The coarse torus turns its faces 22 degrees per ring: the normal filter
+  // flattens that, Taubin smoothing keeps it. The cube's flat sides and
+  // sharp edges are the normal filter's. The pick must also be the better
+  // of the two on the clean mesh's terms.
+  sodt::MeshD torus, cube;
+  sodt::loadMesh(std::string(SODT_MESH_DIR) + "/torus.off", torus);
+  sodt_test::makeCube(cube, 10);
+  for (sodt::MeshD* clean : {&torus, &cube}) {
+    sodt::MeshD m;
+    vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(m, *clean);
+    addNormalNoise(m, 0.3, 123);
+    const std::vector<sodt::Vec3> y = positions(m), c = positions(*clean);
+    const sodt::FilterChoice choice = firstStage(m);
+    const double err = sodt::surfaceDistance(m, *clean).meanRel;
+    // The other family at its own best length, measured on the clean mesh.
+    const sodt::FaceList faces = sodt::makeFaceList(m);
+    const std::vector<char> movable(y.size(), 1);
+    double other = 1e9;
+    std::vector<sodt::Vec3> p = y;
+    const sodt::NormalFilterRounds normals(faces, movable, 30.0, y, 1);
+    const sodt::UmbrellaSmoother umbrella(faces, movable, m.vn, 1);
+    sodt::MeshD probe;
+    vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(probe, m);
+    for (int k = 1; k <= 12; ++k) {
+      if (choice.kind == sodt::FilterKind::Normals) {
+        for (int j = 0; j < sodt::kUmbrellaCheck; ++j) umbrella.pair(p);
+      } else {
+        normals.round(p);
+      }
+      for (int i = 0; i < probe.vn; ++i) probe.vert[i].P() = vcg::Point3d(p[i][0], p[i][1], p[i][2]);
+      other = std::min(other, sodt::surfaceDistance(probe, *clean).meanRel);
+    }
+    std::printf("%d vertices: %s, mean distance %.3e; the other filter at best %.3e\n", m.vn,
+                sodt::describe(choice).c_str(), err, other);
+    EXPECT_EQ(choice.kind, clean == &torus ? sodt::FilterKind::Taubin : sodt::FilterKind::Normals);
+    EXPECT_LT(err, other);
+    EXPECT_TRUE(choice.noiseEstimated);
+    EXPECT_NEAR(choice.noiseEdges, 0.3, 0.1);
+    EXPECT_LT(choice.risk, 0.5 * choice.riskNone);
+  }
+}
+
+TEST(FilterSelect, LeavesACleanMeshOrOneWithLittleNoiseGivenAsItIs) {
+  sodt::MeshD sphere;
+  sodt_test::makeSphere(sphere, 4);
+  const std::vector<sodt::Vec3> before = positions(sphere);
+  const sodt::FilterChoice clean = firstStage(sphere);
+  EXPECT_EQ(clean.kind, sodt::FilterKind::None) << sodt::describe(clean);
+  EXPECT_EQ(positions(sphere), before);
+  // Noisy, but the user says the noise is a thousandth of an edge: no
+  // filter removes that little without moving the surface more.
+  addNormalNoise(sphere, 0.3, 4);
+  const std::vector<sodt::Vec3> noisy = positions(sphere);
+  const sodt::FilterChoice given = firstStage(sphere, 0.001);
+  EXPECT_EQ(given.kind, sodt::FilterKind::None) << sodt::describe(given);
+  EXPECT_FALSE(given.noiseEstimated);
+  EXPECT_EQ(given.noiseEdges, 0.001);
+  EXPECT_EQ(positions(sphere), noisy);
+  // Told the true level, it filters.
+  EXPECT_NE(firstStage(sphere, 0.3).kind, sodt::FilterKind::None);
+}
+
+TEST(FilterSelect, SameChoiceAndResultForEveryThreadCount) {
+  sodt::MeshD a, b;
+  sodt_test::makeSphere(a, 4);
+  addNormalNoise(a, 0.3, 8);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(b, a);
+  const sodt::FilterChoice ca = firstStage(a, 0, 1), cb = firstStage(b, 0, 2);
+  EXPECT_EQ(ca.kind, cb.kind);
+  EXPECT_EQ(ca.steps, cb.steps);
+  EXPECT_EQ(ca.risk, cb.risk);
+  EXPECT_EQ(positions(a), positions(b));
 }

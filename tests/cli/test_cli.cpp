@@ -823,14 +823,40 @@ TEST_F(CliTest, StatsPrintsJson) {
 }
 
 TEST_F(CliTest, DenoisersWarnOnANearlyNoiseFreeInput) {
-  // The fixture's sphere has bad angles but no noise: denoising it would
-  // mostly smooth its shape, and both denoisers say so; feature does not.
-  for (const char* algorithm : {"filtered", "denoise"}) {
-    const RunResult r = runSodt({"smooth", in_, dir_ / "out.ply", "--algorithm", algorithm}, dir_);
-    ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_NE(r.err.find("warning: the input looks nearly noise-free"), std::string::npos) << algorithm << r.err;
-    EXPECT_NE(r.out.find("noise          0.0"), std::string::npos) << r.out;
-  }
+  // The fixture's sphere has bad angles but no noise: denoise would mostly
+  // smooth its shape and says so; filtered scores no filter best and
+  // applies none; feature does not warn.
+  const RunResult d = runSodt({"smooth", in_, dir_ / "out.ply", "--algorithm", "denoise"}, dir_);
+  ASSERT_EQ(d.exitCode, 0) << d.err;
+  EXPECT_NE(d.err.find("warning: the input looks nearly noise-free"), std::string::npos) << d.err;
+  EXPECT_NE(d.out.find("noise          0.0"), std::string::npos) << d.out;
+  const RunResult r = runSodt({"smooth", in_, dir_ / "out.ply", "--algorithm", "filtered"}, dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.err.find("noise-free"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("filter         none (noise level"), std::string::npos) << r.out;
+  // The clean coarse torus reads a little noise (its curvature), and Taubin
+  // smoothing scores better than none for it: filtered warns that it
+  // smoothed a clean-looking mesh.
+  const std::string torus = std::string(SODT_MESH_DIR) + "/torus.off";
+  const RunResult t = runSodt({"smooth", torus, dir_ / "out.ply", "--algorithm", "filtered"}, dir_);
+  ASSERT_EQ(t.exitCode, 0) << t.err;
+  EXPECT_NE(t.err.find("warning: the input looks nearly noise-free (noise estimated at 0.0"), std::string::npos)
+      << t.err;
+  EXPECT_NE(t.err.find("filtering still scored better (Taubin smoothing"), std::string::npos) << t.err;
+  // Told the torus has no noise to speak of, it leaves it alone.
+  const RunResult g = runSodt(
+      {"smooth", torus, dir_ / "out.ply", "--algorithm", "filtered", "--noise-level", "0.001"}, dir_);
+  ASSERT_EQ(g.exitCode, 0) << g.err;
+  EXPECT_EQ(g.err.find("noise-free"), std::string::npos) << g.err;
+  EXPECT_NE(g.out.find("filter         none (noise level 0.001 mean edges, given"), std::string::npos) << g.out;
+  // The report says what ran, for scripts.
+  const std::string report = dir_ / "report.json";
+  const RunResult j = runSodt({"smooth", torus, dir_ / "out.ply", "--algorithm", "filtered", "--report", report}, dir_);
+  ASSERT_EQ(j.exitCode, 0) << j.err;
+  const std::string json = readFile(report);
+  EXPECT_NE(json.find("\"kind\": \"taubin\""), std::string::npos) << json;
+  EXPECT_GT(jsonNumber(json, "steps"), 0) << json;
+  EXPECT_LT(jsonNumber(json, "risk"), jsonNumber(json, "risk_unfiltered")) << json;
   const RunResult f = runSodt({"smooth", in_, dir_ / "out.ply", "--algorithm", "feature"}, dir_);
   ASSERT_EQ(f.exitCode, 0) << f.err;
   EXPECT_EQ(f.err.find("noise-free"), std::string::npos) << f.err;

@@ -3,8 +3,9 @@
 // the face normals (a bilateral filter whose range weights compare guidance
 // normals, after Zheng et al. 2011 and Zhang et al. 2015), then vertex
 // updates that make the faces follow the filtered normals, under a fold
-// guard. The S-ODT sweeps that follow (smoother.h) then improve the
-// triangles on the denoised surface.
+// guard. filter_select.h decides how many rounds run; the S-ODT sweeps
+// that follow (smoother.h) then improve the triangles on the denoised
+// surface.
 #pragma once
 
 #include "geometry.h"
@@ -18,13 +19,8 @@
 
 namespace sodt {
 
-/// Rounds of (normal filtering, vertex update) of the filtered denoiser.
-/// More rounds remove more noise but flatten coarse curved meshes: each
-/// round starts from faces the round before already smoothed.
-constexpr int kFilterRounds = 2;
-/// Filtering passes over the face normals per round. On the noise
-/// benchmark ten passes brought the CAD parts 0.01-0.06x of the input's
-/// distance closer but left the coarse torus and spot 0.2-0.6x farther.
+/// Filtering passes over the face normals per round of the normal filter
+/// (how many rounds run is chosen per mesh, see filter_select.h).
 constexpr int kNormalPasses = 5;
 /// Vertex-update iterations per round.
 constexpr int kVertexPasses = 10;
@@ -101,12 +97,12 @@ struct FaceNeighbourhoods {
   }
 };
 
-/// Settings of the filtered denoiser, all derived from the mesh and the
-/// user's feature angle (see filteredDenoise).
+/// Settings of the normal filter, all derived from the mesh and the
+/// user's feature angle (see NormalFilterRounds).
 struct NormalFilterSettings {
   double sigmaSpatial = 0;  ///< of the Gaussian of centroid distances
   double sigmaRange = 0;    ///< of the Gaussian of guidance-normal differences
-  int rounds = kFilterRounds, normalPasses = kNormalPasses, vertexPasses = kVertexPasses;
+  int normalPasses = kNormalPasses, vertexPasses = kVertexPasses;
 };
 
 namespace detail {
@@ -258,41 +254,58 @@ inline void matchNormals(const FaceList& faces, const std::vector<int>& vb, cons
   }
 }
 
-/// The filtered denoiser's first stage on the working positions: rounds of
-/// guided bilateral filtering of the face normals (starting each round
-/// from the current faces) followed by vertex updates towards the filtered
-/// normals. Only vertices marked movable move. The spatial sigma is the
-/// mean distance between the centroids of faces sharing an edge; the range
+/// Rounds of guided bilateral filtering of the face normals (each round
+/// starts from the current faces) followed by vertex updates towards the
+/// filtered normals. Only vertices marked movable move. The settings come
+/// from the positions given at construction: the spatial sigma is the mean
+/// distance between the centroids of faces sharing an edge; the range
 /// sigma is the difference of two unit normals half the feature angle
 /// apart, 2 sin(angle / 4): guidance normals the feature angle apart mix
 /// with weight exp(-2) or less.
-inline void filteredDenoise(const FaceList& faces, const std::vector<char>& movable, double featureAngleDeg,
-                            int threads, std::vector<Vec3>& pos, NormalFilterSettings* used = nullptr) {
-  const int nv = static_cast<int>(pos.size());
-  FaceNeighbourhoods nb;
-  nb.build(faces, nv);
-  const IncidentFaces inc(faces, nv);
-  FaceFrame fr;
-  fr.compute(faces, pos);
-  double dsum = 0;
-  long long dcnt = 0;
-  for (std::size_t f = 0; f < faces.tri.size(); ++f)
-    for (int g : nb.edge[f])
-      if (g > static_cast<int>(f)) {
-        dsum += (fr.centroid[f] - fr.centroid[g]).Norm();
-        ++dcnt;
-      }
-  NormalFilterSettings s;
-  s.sigmaSpatial = dcnt ? dsum / double(dcnt) : 0.0;
-  s.sigmaRange = 2 * std::sin(std::min(std::max(featureAngleDeg, 1.0), 180.0) * kPi / 720.0);
-  if (used) *used = s;
-  if (!(s.sigmaSpatial > 0)) return;
-  for (int round = 0; round < s.rounds; ++round) {
-    if (round > 0) fr.compute(faces, pos);
-    std::vector<Vec3> n = fr.normal;
-    for (int pass = 0; pass < s.normalPasses; ++pass) n = filterNormalsOnce(nb, fr, n, s, threads);
-    matchNormals(faces, inc.begin, inc.face, n, movable, s.vertexPasses, kTangentialStep, std::cos(featureAngleDeg * kPi / 360.0), pos);
+class NormalFilterRounds {
+ public:
+  NormalFilterRounds(const FaceList& faces, const std::vector<char>& movable, double featureAngleDeg,
+                     const std::vector<Vec3>& pos, int threads)
+      : faces_(faces), movable_(movable), inc_(faces, static_cast<int>(pos.size())), threads_(threads),
+        flatCos_(std::cos(featureAngleDeg * kPi / 360.0)) {
+    nb_.build(faces, static_cast<int>(pos.size()));
+    FaceFrame fr;
+    fr.compute(faces, pos);
+    double dsum = 0;
+    long long dcnt = 0;
+    for (std::size_t f = 0; f < faces.tri.size(); ++f)
+      for (int g : nb_.edge[f])
+        if (g > static_cast<int>(f)) {
+          dsum += (fr.centroid[f] - fr.centroid[g]).Norm();
+          ++dcnt;
+        }
+    s_.sigmaSpatial = dcnt ? dsum / double(dcnt) : 0.0;
+    s_.sigmaRange = 2 * std::sin(std::min(std::max(featureAngleDeg, 1.0), 180.0) * kPi / 720.0);
   }
-}
+
+  const NormalFilterSettings& settings() const { return s_; }
+  /// False when the mesh has no two faces sharing an edge at a distance:
+  /// rounds would change nothing.
+  bool usable() const { return s_.sigmaSpatial > 0; }
+
+  /// One round on pos.
+  void round(std::vector<Vec3>& pos) const {
+    if (!usable()) return;
+    FaceFrame fr;
+    fr.compute(faces_, pos);
+    std::vector<Vec3> n = fr.normal;
+    for (int pass = 0; pass < s_.normalPasses; ++pass) n = filterNormalsOnce(nb_, fr, n, s_, threads_);
+    matchNormals(faces_, inc_.begin, inc_.face, n, movable_, s_.vertexPasses, kTangentialStep, flatCos_, pos);
+  }
+
+ private:
+  const FaceList& faces_;
+  const std::vector<char>& movable_;
+  FaceNeighbourhoods nb_;
+  IncidentFaces inc_;
+  NormalFilterSettings s_;
+  int threads_;
+  double flatCos_;
+};
 
 }  // namespace sodt

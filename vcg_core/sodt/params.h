@@ -25,9 +25,9 @@ enum class Algorithm : int {
   Denoise = 2,  ///< Algorithm 3: as Feature, on fitted planes and crease lines (removes noise)
   Odt = 3,      ///< reference: Eq. 3 with true areas, minimised numerically in the tangent plane
   Laplacian = 4,  ///< reference: Eq. 3 with S'_k = 1, i.e. the centroid of the one-ring
-  /// Denoising: face normals filtered with feature-preserving weights, the
-  /// vertices moved to match them (normal_filter.h), then Algorithm 2 on
-  /// the denoised surface
+  /// Denoising: feature-preserving normal filtering or Taubin smoothing,
+  /// whichever (and as much as) scores best for the mesh's noise
+  /// (filter_select.h), then Algorithm 2 on the denoised surface
   Filtered = 5,
 };
 
@@ -141,6 +141,10 @@ struct SodtParams {
   /// along themselves, so they stay chains of edges. Filtered's normal
   /// filter keeps edges this sharp (see normal_filter.h).
   double featureAngleDeg = 30.0;
+  /// Filtered: the noise along the normals, as a standard deviation in
+  /// mean edge lengths, that scores its filters; 0 estimates it from the
+  /// mesh (see filter_select.h and noise_estimate.h).
+  double noiseLevelEdges = 0.0;
   /// Border vertices slide along the border (see boundary.h): to the
   /// minimiser of Eq. 5 over their open fan along the border direction,
   /// staying on a curve through the input border, under the same guards. Corners of
@@ -177,6 +181,36 @@ struct RemainingTriangle {
   double centroid[3];
   double minAngleDeg;
   RepairReason why;
+};
+
+/// The smoothing filtered's first stage applied before its sweeps (see
+/// filter_select.h).
+enum class FilterKind {
+  None = 0,      ///< no filter: the input's own positions scored best
+  Normals = 1,   ///< rounds of guided bilateral normal filtering
+  Taubin = 2,    ///< pairs of lambda|mu umbrella steps (Taubin smoothing)
+};
+
+inline const char* toString(FilterKind k) {
+  switch (k) {
+    case FilterKind::None: return "none";
+    case FilterKind::Normals: return "normals";
+    case FilterKind::Taubin: return "taubin";
+  }
+  return "?";
+}
+
+/// What filtered's first stage chose, and from what: the filter and its
+/// length with the smallest estimated mean squared error along the
+/// normals, in squared mean edges (Stein's unbiased risk estimate, NaN
+/// when no estimate could be made and the fallback ran).
+struct FilterChoice {
+  FilterKind kind = FilterKind::None;
+  int steps = 0;                ///< rounds (Normals) or step pairs (Taubin)
+  double noiseEdges = 0;        ///< the noise level used, in mean edges
+  bool noiseEstimated = false;  ///< from estimateNoise, not the noiseLevel parameter
+  double risk = 0;              ///< of the choice
+  double riskNone = 0;          ///< of leaving the input as it is
 };
 
 /// Counters of one run; every vertex visit ends in exactly one of
@@ -237,6 +271,8 @@ struct SodtStats {
   int slidingBoundary = 0;
   int boundaryCorners = 0;
   int movedBoundary = 0;
+  /// Algorithm::Filtered: the first stage's choice.
+  FilterChoice filter;
 };
 
 inline const char* toString(Guard g) {
@@ -473,8 +509,8 @@ struct ParamSpec {
   static E fromNumber(double v, E*) { return static_cast<E>(static_cast<int>(v)); }
 };
 
-/// The face turn bound of the S-ODT sweeps of Algorithm::Filtered, in
-/// degrees from the denoised surface. The filter leaves crumpled triangles
+/// The face turn bound of the S-ODT sweeps of Algorithm::Filtered after
+/// its normal filter, in degrees from the denoised surface. The filter leaves crumpled triangles
 /// along creases at high noise, and the sweeps need to turn them to
 /// straighten them: with the 40 degree default of the other algorithms the noise
 /// benchmark's fandisk (sigma 0.5 edges) kept a 9 degree angle, and its
@@ -482,6 +518,16 @@ struct ParamSpec {
 /// faces may stand on edge: the shared noisy fandisk then ended with a
 /// 3 degree angle.
 constexpr double kFilteredFaceTurnDeg = 85.0;  // the text of faceTurnParam() names it
+/// The face turn bound of filtered's sweeps after Taubin smoothing (or no
+/// filter), whose surface has no crumpled creases to straighten: on the
+/// noise benchmark's spot, 85 let the sweeps turn 2-6 faces past 90
+/// degrees from the clean surface, 40 none, at the same minimum angles.
+constexpr double kSmoothedFaceTurnDeg = 40.0;
+
+/// The face turn bound of filtered's sweeps after the given first stage.
+inline double filteredFaceTurnDeg(FilterKind filter) {
+  return filter == FilterKind::Normals ? kFilteredFaceTurnDeg : kSmoothedFaceTurnDeg;
+}
 
 namespace detail {
 
@@ -507,7 +553,8 @@ inline void faceTurnParam(ParamSpec& t) {
                 "Moves and flips that turn a face further are shortened or rejected like any guard veto, "
                 "so that faces do not pile up into edges sharper than the input's; 90 only rejects "
                 "folds. Unused by denoise, whose moves turn noisy faces into the surface, by filtered, "
-                "whose sweeps may turn faces 85 degrees from the denoised surface, and with guard none.");
+                "whose sweeps have their own bound from the denoised surface (85 degrees after its normal "
+                "filter, 40 after Taubin smoothing), and with guard none.");
 }
 
 /// The local repair's entries of paramTable().
@@ -542,7 +589,7 @@ inline const std::vector<ParamSpec>& paramTable() {
   static const std::vector<ParamSpec> table = [] {
     const unsigned feature = algorithmBit(Algorithm::Feature), denoise = algorithmBit(Algorithm::Denoise);
     const unsigned filtered = algorithmBit(Algorithm::Filtered);  // its sweeps are Algorithm 2's
-    std::vector<ParamSpec> t(20);
+    std::vector<ParamSpec> t(21);
     t[0].bind("algorithm", &SodtParams::algorithm).keys("algorithm", "algorithm").cli("--algorithm", "NAME")
         .dialog("Algorithm")
         .describe("vertex update rule")
@@ -563,10 +610,12 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "reference: the one-ring centroid (Eq. 3 with S'k = 1); leaves the tangent plane, so it "
                   "shrinks the surface"},
                  {toString(Algorithm::Filtered), "Denoising: filtered normals, then S-ODT",
-                  "denoise: feature-preserving filtered normals, then S-ODT: the face normals are filtered "
-                  "with weights that keep edges sharper than the feature angle, the vertices move to match "
-                  "them, then feature-preserving S-ODT sweeps (Algorithm 2) improve the triangles on the "
-                  "denoised surface"}});
+                  "denoise: filtered normals or Taubin smoothing, then S-ODT: rounds of a normal filter that "
+                  "keeps edges sharper than the feature angle (the vertices follow the filtered normals) and "
+                  "steps of Taubin's lambda|mu smoothing are scored by their estimated error for the mesh's "
+                  "noise level (see noise level); the best of them, or none, is applied, then "
+                  "feature-preserving S-ODT sweeps (Algorithm 2) improve the triangles on the denoised "
+                  "surface"}});
     t[1].bind("iterations", &SodtParams::iterations).keys("iterations", "iterations").cli("--iterations", "N")
         .dialog("Iterations").range(0, 100000)
         .describe("Gauss-Seidel sweeps over all movable vertices",
@@ -664,6 +713,15 @@ inline const std::vector<ParamSpec>& paramTable() {
     detail::faceTurnParam(t[15]);
     detail::repairParams(t[16], t[17], t[18]);
     detail::slideBoundaryParam(t[19]);
+    t[20].bind("noiseLevelEdges", &SodtParams::noiseLevelEdges).keys("noiseLevel", "noise_level")
+        .cli("--noise-level", "X").dialog("Noise level (x mean edge, 0 = estimate)").shownIn("mean edge lengths")
+        .range(0, 10).usedBy(filtered)
+        .describe("the noise's standard deviation along the normals that filtered removes, or 0 to estimate "
+                  "it from the mesh",
+                  "Each filter length is scored by its expected squared distance to the unknown clean surface "
+                  "for this noise (Stein's unbiased risk estimate) and the best one, or none, is applied. The "
+                  "estimate (see sodt stats) reads up to 1.3 times high near sharp edges; a larger level "
+                  "smooths more, a smaller one less.");
     return t;
   }();
   return table;

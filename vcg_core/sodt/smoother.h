@@ -15,7 +15,7 @@
 #include "classify.h"
 #include "flips.h"
 #include "guarded_move.h"
-#include "normal_filter.h"
+#include "filter_select.h"
 #include "params.h"
 #include "repair.h"
 #include "run_setup.h"
@@ -78,11 +78,12 @@ struct SodtSmoother {
     SodtStats stats;
     WorkingMesh w = loadWorkingMesh(m, params.selectedOnly);
     stats.reorientedFaces = w.reorientedFaces;
-    // Filtered: denoise by filtered normals first; the sweeps then run
+    // Filtered: denoise first (filter_select.h); the sweeps then run
     // Algorithm 2 with the denoised surface as their input (its classes and
     // face orientations), without the deviation bound.
-    const SodtParams p = sweepParams(params);
-    if (params.algorithm == Algorithm::Filtered) denoiseByFilteredNormals(w, params, resolveThreads(params.threads));
+    if (params.algorithm == Algorithm::Filtered)
+      stats.filter = denoiseFirst(w, params, resolveThreads(params.threads), cb);
+    const SodtParams p = sweepParams(params, stats.filter.kind);
     // The length scale of classification, crease moves and denoising steps.
     const bool usesMeanEdge = p.algorithm == Algorithm::Feature || p.algorithm == Algorithm::Denoise;
     const double meanEdge = usesMeanEdge ? meanEdgeLength(m) : 0.0;
@@ -168,30 +169,29 @@ struct SodtSmoother {
 
  private:
   /// The parameters of the sweeps: Filtered's sweeps are Algorithm 2's,
-  /// without the deviation bound and with kFilteredFaceTurnDeg for the
-  /// face turn bound (SodtParams::maxFaceTurnDeg is not used). Their moves
-  /// are tangential to the denoised surface anyway: on the noise
-  /// benchmark's meshes the deviation bound (against the denoised surface)
-  /// only kept the triangles worse, at the same distance to the clean
-  /// surface.
-  static SodtParams sweepParams(const SodtParams& params) {
+  /// without the deviation bound, with their own face turn bound
+  /// (filteredFaceTurnDeg; SodtParams::maxFaceTurnDeg is not used). Their moves are tangential to the denoised surface anyway: on
+  /// the noise benchmark's meshes the deviation bound (against the denoised
+  /// surface) only kept the triangles worse, at the same distance to the
+  /// clean surface.
+  static SodtParams sweepParams(const SodtParams& params, FilterKind filter) {
     SodtParams p = params;
     if (p.algorithm == Algorithm::Filtered) {
       p.algorithm = Algorithm::Feature;
       p.maxDeviationRel = 0;
-      p.maxFaceTurnDeg = kFilteredFaceTurnDeg;
+      p.maxFaceTurnDeg = filteredFaceTurnDeg(filter);
     }
     return p;
   }
 
-  /// Filtered's first stage (normal_filter.h) on the working mesh: interior
-  /// vertices move (only selected ones with selectedOnly); border and
-  /// non-manifold vertices stay, as in the sweeps.
-  static void denoiseByFilteredNormals(WorkingMesh& w, const SodtParams& p, int threads) {
+  /// Filtered's first stage (filter_select.h) on the working mesh:
+  /// interior vertices move (only selected ones with selectedOnly); border
+  /// and non-manifold vertices stay, as in the sweeps.
+  static FilterChoice denoiseFirst(WorkingMesh& w, const SodtParams& p, int threads, vcg::CallBackPos* cb) {
     std::vector<char> movable(w.pos.size(), 0);
     for (std::size_t i = 0; i < w.pos.size(); ++i)
       movable[i] = w.topo.kind[i] == VertexKind::Interior && (!p.selectedOnly || w.selected[i]);
-    filteredDenoise(w.faces, movable, p.featureAngleDeg, threads, w.pos);
+    return filteredDenoise(w.faces, movable, p.featureAngleDeg, p.noiseLevelEdges, threads, w.pos, cb);
   }
 
   /// Flip passes after a sweep, at most (each pass flips an edge only when
