@@ -183,8 +183,8 @@ inline std::vector<Vec3> vertexNormals(const FaceList& faces, const std::vector<
 
 /// Runs one filter as a growing sequence on the input and on the probed
 /// input, scoring after every `every` steps up to `most`, and stops after
-/// kWorseScoresToStop scores in a row above the best of the sequence (or of
-/// no filter, when the sequence has not beaten that); keeps the best.
+/// kWorseScoresToStop scores in a row above the best of the sequence, or
+/// at once when the first score is not below no filter's; keeps the best.
 /// tick(k) after each score; false stops, and so does the call (false).
 template <class Step, class Tick>
 bool scoreSequence(const RiskProbe& probe, const std::vector<Vec3>& input, FilterKind kind, int every, int most,
@@ -202,7 +202,10 @@ bool scoreSequence(const RiskProbe& probe, const std::vector<Vec3>& input, Filte
       seqBest = r;
       worse = 0;
     } else {
-      ++worse;
+      // A first length that does not beat the input's own score ends the
+      // sequence: longer ones only move the surface further (on a clean
+      // mesh this saves most of the scoring).
+      worse = k == every ? kWorseScoresToStop : worse + 1;
     }
     if (r < best.risk) {
       best.risk = r;
