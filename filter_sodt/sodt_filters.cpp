@@ -403,6 +403,14 @@ Report smoothingReport(const CMeshO& m, const SmoothingRun& run) {
       {"repair_flips", s.repairFlips}, {"below_repair_angle", static_cast<long long>(s.belowTarget.size())}};
   for (const auto& c : counters) r[c.first] = count(c.second);
   r["seconds"] = s.sweepSeconds;
+  if (run.p.algorithm == sodt::Algorithm::Filtered) {  // the first stage's choice (filter_select.h)
+    r["filter_kind"] = static_cast<int>(s.filter.kind);  // PyMeshLab passes no strings: 0 none, 1 normals, 2 taubin
+    r["filter_steps"] = s.filter.steps;
+    r["filter_noise_level"] = s.filter.noiseEdges;
+    r["filter_noise_estimated"] = s.filter.noiseEstimated;
+    r["filter_risk"] = s.filter.risk;
+    r["filter_risk_unfiltered"] = s.filter.riskNone;
+  }
   return r;
 }
 

@@ -26,6 +26,7 @@ CASES = [
     ("cube_noisy.ply", {"algorithm": "denoise", "max_normal_step": 0.07, "iterations": 7},
      ["--algorithm", "denoise", "--max-normal-step", "0.07", "--iterations", "7"]),
     ("cube_noisy.ply", {"algorithm": "filtered", "iterations": 10}, ["--algorithm", "filtered", "--iterations", "10"]),
+    ("torus.off", {"algorithm": "filtered", "noise_level": 0.2}, ["--algorithm", "filtered", "--noise-level", "0.2"]),
     ("plane_grid_open.ply", {"guard": "fold", "tolerance": 0.01}, ["--guard", "fold", "--tolerance", "0.01"]),
     ("shared:mol_a.ply", {}, []),
 ]
@@ -50,3 +51,8 @@ def test_plugin_in_pymeshlab_equals_the_cli(pm, meshset, tmp_path, mesh, kwargs,
         assert report[k] == cli[k], k
     assert report["flips"] == cli["flips"]
     assert report["returned_sweep"] == cli["returned_sweep"]
+    if kwargs.get("algorithm") == "filtered":
+        # The same filter, chosen for the same reasons.
+        assert ["none", "normals", "taubin"][report["filter_kind"]] == cli["filter"]["kind"]
+        for k in ("steps", "noise_level", "noise_estimated", "risk", "risk_unfiltered"):
+            assert report["filter_" + k] == cli["filter"][k], k
