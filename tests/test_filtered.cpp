@@ -118,6 +118,37 @@ TEST(Filtered, NoisyCubeComesCloseToTheCubeWithSharpEdgesAndGoodTriangles) {
   EXPECT_GT(meanCubeDistance(noisy), 1.5 * d1);
 }
 
+TEST(Filtered, CornersKeepWhereTheFilterTookThem) {
+  // The sweeps hold the vertices classified as corners still; those the
+  // filter moved must be returned where it moved them, not where the noise
+  // had put them.
+  sodt::MeshD clean, m;
+  sodt_test::makeCube(clean, 12);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(m, clean);
+  addNormalNoise(m, 0.5, 5);
+  const std::vector<vcg::Point3d> noisy = [&] {
+    std::vector<vcg::Point3d> p;
+    for (const auto& v : m.vert) p.push_back(v.cP());
+    return p;
+  }();
+  sodt::SodtParams p;
+  p.algorithm = Algorithm::Filtered;
+  p.threads = 1;
+  sodt::Classification cls;
+  const sodt::SodtStats st = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p, nullptr, &cls);
+  ASSERT_EQ(st.filter.kind, sodt::FilterKind::Normals);
+  ASSERT_GT(cls.corner(), 0);
+  double before = 0, after = 0;
+  for (std::size_t i = 0; i < m.vert.size(); ++i) {
+    if (cls.cls[i] != sodt::VertexClass::Corner) continue;
+    EXPECT_NE(m.vert[i].cP(), noisy[i]) << "corner vertex " << i << " kept its noisy position";
+    before += std::abs(cubeDistance(noisy[i]));
+    after += std::abs(cubeDistance(m.vert[i].cP()));
+  }
+  std::printf("%d corner vertices: summed distance to the cube %.4f -> %.4f\n", cls.corner(), before, after);
+  EXPECT_LT(after, 0.5 * before);
+}
+
 TEST(Filtered, NoisySphereComesCloseToTheSphere) {
   sodt::MeshD m;
   sodt_test::makeSphere(m, 4);

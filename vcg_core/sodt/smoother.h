@@ -81,8 +81,11 @@ struct SodtSmoother {
     // Filtered: denoise first (filter_select.h); the sweeps then run
     // Algorithm 2 with the denoised surface as their input (its classes and
     // face orientations), without the deviation bound.
+    // The filter may move vertices the sweeps then hold still (corners):
+    // they are written back too.
+    std::vector<int> filtered;
     if (params.algorithm == Algorithm::Filtered)
-      stats.filter = denoiseFirst(w, params, resolveThreads(params.threads), cb);
+      stats.filter = denoiseFirst(w, params, resolveThreads(params.threads), cb, filtered);
     const SodtParams p = sweepParams(params, stats.filter.kind);
     // The length scale of classification, crease moves and denoising steps.
     const bool usesMeanEdge = p.algorithm == Algorithm::Feature || p.algorithm == Algorithm::Denoise;
@@ -162,6 +165,7 @@ struct SodtSmoother {
     // The mesh is written only here, positions and faces together.
     std::vector<int> moving = moved;
     moving.insert(moving.end(), slide.vertex.begin(), slide.vertex.end());
+    moving.insert(moving.end(), filtered.begin(), filtered.end());
     writeBack(m, w, moving, stats.flips > 0 || stats.reorientedFaces > 0 || p.repair, threads);
     if (classes) *classes = inMeshOrder(outCls, w.order);
     return stats;
@@ -186,12 +190,19 @@ struct SodtSmoother {
 
   /// Filtered's first stage (filter_select.h) on the working mesh:
   /// interior vertices move (only selected ones with selectedOnly); border
-  /// and non-manifold vertices stay, as in the sweeps.
-  static FilterChoice denoiseFirst(WorkingMesh& w, const SodtParams& p, int threads, vcg::CallBackPos* cb) {
+  /// and non-manifold vertices stay, as in the sweeps. moved gets the
+  /// vertices that may have moved (none when no filter was chosen).
+  static FilterChoice denoiseFirst(WorkingMesh& w, const SodtParams& p, int threads, vcg::CallBackPos* cb,
+                                   std::vector<int>& moved) {
     std::vector<char> movable(w.pos.size(), 0);
     for (std::size_t i = 0; i < w.pos.size(); ++i)
       movable[i] = w.topo.kind[i] == VertexKind::Interior && (!p.selectedOnly || w.selected[i]);
-    return filteredDenoise(w.faces, movable, p.featureAngleDeg, p.noiseLevelEdges, threads, w.pos, cb);
+    const FilterChoice c = filteredDenoise(w.faces, movable, p.featureAngleDeg, p.noiseLevelEdges, threads, w.pos, cb);
+    moved.clear();
+    if (c.kind != FilterKind::None)
+      for (std::size_t i = 0; i < movable.size(); ++i)
+        if (movable[i]) moved.push_back(static_cast<int>(i));
+    return c;
   }
 
   /// Flip passes after a sweep, at most (each pass flips an edge only when
