@@ -217,6 +217,33 @@ TEST(Filtered, RangeSigmaFollowsTheFeatureAngle) {
   for (std::size_t i = 0; i < pos.size(); ++i) EXPECT_LT(std::abs(cubeDistance(a[i])), 1e-5) << i;
 }
 
+TEST(Filtered, VertexUpdatesSqueezeNoFaceBelowTheAngleFloor) {
+  // Every face keeps its smallest angle at or above the smaller of where it
+  // started and kFilterAngleFloorDeg, however many rounds run: on a cube
+  // this noisy the updates would otherwise squeeze faces at the corners
+  // into slivers the sweeps cannot unfold.
+  sodt::MeshD m;
+  sodt_test::makeCube(m, 12);
+  addNormalNoise(m, 0.5, 10);  // a seed that squeezed a face to 0.1 degrees
+  const sodt::FaceList faces = sodt::makeFaceList(m);
+  std::vector<sodt::Vec3> pos;
+  for (const auto& v : m.vert) pos.push_back(sodt::Vec3::Construct(v.cP()));
+  const std::vector<sodt::Vec3> start = pos;
+  const std::vector<char> movable(pos.size(), 1);
+  const sodt::NormalFilterRounds rounds(faces, movable, 30.0, pos, 1);
+  const double floorRad = sodt::kFilterAngleFloorDeg * M_PI / 180;
+  auto angle = [&](const std::vector<sodt::Vec3>& p, const std::array<int, 3>& t) {
+    return sodt::triangleMinAngle(p[t[0]], p[t[1]], p[t[2]]);
+  };
+  double lowest = M_PI;
+  for (int r = 0; r < sodt::kMaxNormalRounds; ++r) rounds.round(pos);
+  for (const std::array<int, 3>& t : faces.tri) {
+    EXPECT_GE(angle(pos, t), std::min(angle(start, t), floorRad) - 1e-12);
+    lowest = std::min(lowest, angle(pos, t));
+  }
+  std::printf("noisy cube after %d rounds: smallest angle %.1f deg\n", sodt::kMaxNormalRounds, lowest * 180 / M_PI);
+}
+
 TEST(Filtered, SweepsTurnFacesUpToTheirOwnBoundWhateverTheFaceTurnParameter) {
   // The filtered sweeps straighten the crumpled triangles the filter
   // leaves at high noise, which needs faces to turn further than the other

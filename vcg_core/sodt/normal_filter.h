@@ -24,6 +24,13 @@ namespace sodt {
 constexpr int kNormalPasses = 5;
 /// Vertex-update iterations per round.
 constexpr int kVertexPasses = 10;
+/// A vertex update may leave a face's smallest angle below this only where
+/// it already was, and never lower than before. Without it the updates
+/// squeeze faces near the corners of noisy CAD parts into slivers whose
+/// normals flip with a tiny move, and the sweeps' guards, which take those
+/// normals as the surface's orientation, cannot unfold them (a cube with
+/// noise of half an edge: smallest angle 0.3 degrees without, 22.6 with).
+constexpr double kFilterAngleFloorDeg = 10.0;
 /// Share of the tangential Laplacian step added to the vertex update of a
 /// vertex whose faces' target normals all lie within half the feature
 /// angle of their mean: it keeps the triangles from degenerating while the
@@ -197,8 +204,9 @@ inline std::vector<Vec3> filterNormalsOnce(const FaceNeighbourhoods& nb, const F
 /// t_f lie within acos(flatCos) of their mean m, plus tangential times the
 /// part of (mean of the c_f - x_i) orthogonal to m. A step that
 /// would turn one of the vertex's faces against its target normal (or
-/// further against it than before) is halved, up to four times, then
-/// dropped: no face inverts.
+/// further against it than before), or take a face's smallest angle below
+/// both its current one and kFilterAngleFloorDeg, is halved, up to four
+/// times, then dropped: no face inverts or turns into a sliver.
 inline void matchNormals(const FaceList& faces, const std::vector<int>& vb, const std::vector<int>& vf,
                          const std::vector<Vec3>& t, const std::vector<char>& movable, int passes,
                          double tangential, double flatCos, std::vector<Vec3>& pos) {
@@ -211,7 +219,12 @@ inline void matchNormals(const FaceList& faces, const std::vector<int>& vb, cons
     const std::array<int, 3>& u = faces.tri[f];
     return doubleAreaVector(pos[u[0]], pos[u[1]], pos[u[2]]) * t[f];
   };
-  std::vector<double> before;
+  auto minAngle = [&](int f) {
+    const std::array<int, 3>& u = faces.tri[f];
+    return triangleMinAngle(pos[u[0]], pos[u[1]], pos[u[2]]);
+  };
+  const double floorRad = kFilterAngleFloorDeg * kPi / 180;
+  std::vector<double> before, beforeAngle;
   for (int pass = 0; pass < passes; ++pass) {
     for (int i = 0; i < nv; ++i) {
       if (!movable[i] || vb[i] == vb[i + 1]) continue;
@@ -238,7 +251,11 @@ inline void matchNormals(const FaceList& faces, const std::vector<int>& vb, cons
       }
       if (!isFinite(d)) continue;
       before.clear();
-      for (int k = vb[i]; k < vb[i + 1]; ++k) before.push_back(facing(vf[k]));
+      beforeAngle.clear();
+      for (int k = vb[i]; k < vb[i + 1]; ++k) {
+        before.push_back(facing(vf[k]));
+        beforeAngle.push_back(std::min(minAngle(vf[k]), floorRad));
+      }
       const Vec3 x0 = pos[i];
       bool ok = false;
       for (int half = 0; half <= 4 && !ok; ++half, d /= 2.0) {
@@ -246,7 +263,7 @@ inline void matchNormals(const FaceList& faces, const std::vector<int>& vb, cons
         ok = true;
         for (int k = vb[i]; k < vb[i + 1] && ok; ++k) {
           const double now = facing(vf[k]), was = before[k - vb[i]];
-          ok = now > 0 || (was <= 0 && now >= was);
+          ok = (now > 0 || (was <= 0 && now >= was)) && !(minAngle(vf[k]) < beforeAngle[k - vb[i]]);
         }
       }
       if (!ok) pos[i] = x0;
