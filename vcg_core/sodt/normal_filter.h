@@ -219,12 +219,13 @@ inline void matchNormals(const FaceList& faces, const std::vector<int>& vb, cons
     const std::array<int, 3>& u = faces.tri[f];
     return doubleAreaVector(pos[u[0]], pos[u[1]], pos[u[2]]) * t[f];
   };
-  auto minAngle = [&](int f) {
+  // Smallest angles as squared cosines (larger: smaller angle).
+  auto minAngleCos2 = [&](int f) {
     const std::array<int, 3>& u = faces.tri[f];
-    return triangleMinAngle(pos[u[0]], pos[u[1]], pos[u[2]]);
+    return triangleMinAngleCos2(pos[u[0]], pos[u[1]], pos[u[2]]);
   };
-  const double floorRad = kFilterAngleFloorDeg * kPi / 180;
-  std::vector<double> before, beforeAngle;
+  const double floorCos = std::cos(kFilterAngleFloorDeg * kPi / 180), floorCos2 = floorCos * floorCos;
+  std::vector<double> before, beforeCos2;
   for (int pass = 0; pass < passes; ++pass) {
     for (int i = 0; i < nv; ++i) {
       if (!movable[i] || vb[i] == vb[i + 1]) continue;
@@ -251,10 +252,10 @@ inline void matchNormals(const FaceList& faces, const std::vector<int>& vb, cons
       }
       if (!isFinite(d)) continue;
       before.clear();
-      beforeAngle.clear();
+      beforeCos2.clear();
       for (int k = vb[i]; k < vb[i + 1]; ++k) {
         before.push_back(facing(vf[k]));
-        beforeAngle.push_back(std::min(minAngle(vf[k]), floorRad));
+        beforeCos2.push_back(std::max(minAngleCos2(vf[k]), floorCos2));
       }
       const Vec3 x0 = pos[i];
       bool ok = false;
@@ -263,7 +264,7 @@ inline void matchNormals(const FaceList& faces, const std::vector<int>& vb, cons
         ok = true;
         for (int k = vb[i]; k < vb[i + 1] && ok; ++k) {
           const double now = facing(vf[k]), was = before[k - vb[i]];
-          ok = (now > 0 || (was <= 0 && now >= was)) && !(minAngle(vf[k]) < beforeAngle[k - vb[i]]);
+          ok = (now > 0 || (was <= 0 && now >= was)) && !(minAngleCos2(vf[k]) > beforeCos2[k - vb[i]]);
         }
       }
       if (!ok) pos[i] = x0;
