@@ -9,6 +9,7 @@
 #include <sodt/noise_estimate.h>
 #include <sodt/filter_select.h>
 #include <sodt/normal_filter.h>
+#include <sodt/surface_restore.h>
 #include <sodt_io/io.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/prebuilt.h>
@@ -487,4 +488,111 @@ TEST(FilterSelect, SameChoiceAndResultForEveryThreadCount) {
   EXPECT_EQ(ca.steps, cb.steps);
   EXPECT_EQ(ca.risk, cb.risk);
   EXPECT_EQ(positions(a), positions(b));
+}
+
+namespace {
+
+/// Distance of p to the bundled torus (tube radius 0.4 around a circle of
+/// radius 1 in the z = 0 plane).
+double torusDistance(const vcg::Point3d& p) {
+  const double ring = std::hypot(p[0], p[1]) - 1.0;
+  return std::abs(std::hypot(ring, p[2]) - 0.4);
+}
+
+double meanTorusDistance(const sodt::MeshD& m) {
+  double s = 0;
+  for (const auto& v : m.vert) s += torusDistance(v.cP());
+  return s / m.vn;
+}
+
+/// The quadrics of every vertex of m where its surface is smooth within
+/// 15 degrees (half the default feature angle).
+sodt::SurfaceQuadrics quadricsOf(const sodt::MeshD& m) {
+  const std::vector<sodt::Vec3> pos = positions(m);
+  std::vector<int> all(pos.size());
+  for (std::size_t i = 0; i < pos.size(); ++i) all[i] = static_cast<int>(i);
+  sodt::SurfaceQuadrics q;
+  q.fit(sodt::buildRingTopology(m), pos, all, std::cos(15.0 * M_PI / 180), 1);
+  return q;
+}
+
+}  // namespace
+
+TEST(SurfaceRestore, PutsTangentialMovesBackOnACurvedSurface) {
+  // Every vertex of a unit sphere moved by a third of an edge in its
+  // tangent plane ends off the sphere by about kappa d^2 / 2; put back on
+  // its quadric, by much less.
+  sodt::MeshD sphere;
+  sodt_test::makeSphere(sphere, 3);
+  const std::vector<sodt::Vec3> pos = positions(sphere);
+  const sodt::SurfaceQuadrics q = quadricsOf(sphere);
+  const double step = meanEdge(sphere) / 3;
+  std::mt19937 g(5);
+  double offPlane = 0, offQuadric = 0;
+  for (std::size_t i = 0; i < pos.size(); ++i) {
+    ASSERT_TRUE(q.has(static_cast<int>(i)));
+    const sodt::Vec3 n = pos[i] / pos[i].Norm();
+    const sodt::Vec3 a = std::abs(n[0]) < 0.9 ? sodt::Vec3(1, 0, 0) : sodt::Vec3(0, 1, 0);
+    const sodt::Vec3 u = (a - n * (a * n)).Normalize(), v = n ^ u;
+    const double t = 2 * M_PI * sodt_test::uniform01(g);
+    const sodt::Vec3 x = pos[i] + (u * std::cos(t) + v * std::sin(t)) * step;
+    sodt::Vec3 y;
+    ASSERT_TRUE(q.onQuadric(static_cast<int>(i), x, 1.5 * step, y));
+    offPlane += std::abs(x.Norm() - 1);
+    offQuadric += std::abs(y.Norm() - 1);
+    // Too far from the vertex for its quadric.
+    EXPECT_FALSE(q.onQuadric(static_cast<int>(i), pos[i] + u * (3 * step), 1.5 * step, y));
+  }
+  std::printf("off the sphere: %.3e in the tangent planes, %.3e on the quadrics\n", offPlane / pos.size(),
+              offQuadric / pos.size());
+  EXPECT_LT(offQuadric, 0.1 * offPlane);
+
+  // No quadric across or beside a sharp edge: on a cube only the vertices
+  // two rings or more from an edge have one, and it is flat.
+  sodt::MeshD cube;
+  sodt_test::makeCube(cube, 6);
+  const std::vector<sodt::Vec3> cp = positions(cube);
+  const sodt::SurfaceQuadrics cq = quadricsOf(cube);
+  int with = 0;
+  for (std::size_t i = 0; i < cp.size(); ++i) {
+    // Coordinates strictly inside the side, more than a ring from its edges
+    // (edges a third long): the other one is the side's.
+    int inside = 0, side = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (std::abs(cp[i][k]) < 0.5)
+        ++inside;
+      else
+        side = k;
+    }
+    EXPECT_EQ(cq.has(static_cast<int>(i)), inside == 2) << cp[i][0] << " " << cp[i][1] << " " << cp[i][2];
+    if (!cq.has(static_cast<int>(i))) continue;
+    ++with;
+    sodt::Vec3 x = cp[i] + sodt::Vec3(0.1, 0.1, 0.1), y;
+    x[side] = cp[i][side];  // a move within the side
+    ASSERT_TRUE(cq.onQuadric(static_cast<int>(i), x, 1.0, y));
+    EXPECT_LT((y - x).Norm(), 1e-12);
+  }
+  EXPECT_GT(with, 0);
+}
+
+TEST(Filtered, SweepsKeepTheDenoisedSurfaceOfACoarseTorus) {
+  // The sweeps' moves lie in tangent planes; on the coarse torus (faces
+  // turn 22 degrees per ring) that alone took the result further from the
+  // clean torus than the denoised surface was. Set back on the denoised
+  // surface's quadrics, the result is as close as the denoised surface.
+  sodt::MeshD clean;
+  sodt::loadMesh(std::string(SODT_MESH_DIR) + "/torus.off", clean);
+  sodt::MeshD m, denoised;
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(m, clean);
+  addNormalNoise(m, 0.2, 11);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(denoised, m);
+  const double noisy = meanTorusDistance(m);
+  firstStage(denoised);
+  const sodt::SodtStats st = runFiltered(m);
+  const double first = meanTorusDistance(denoised), result = meanTorusDistance(m);
+  std::printf("mean distance to the torus: noisy %.4e, denoised %.4e, result %.4e; %d vertices restored\n", noisy,
+              first, result, st.restoredVertices);
+  EXPECT_GT(st.restoredVertices, m.vn / 2);
+  EXPECT_LT(first, 0.6 * noisy);
+  EXPECT_LE(result, first);
 }

@@ -273,6 +273,9 @@ struct SodtStats {
   int movedBoundary = 0;
   /// Algorithm::Filtered: the first stage's choice.
   FilterChoice filter;
+  /// Algorithm::Filtered: smooth vertices set back on the denoised
+  /// surface's quadrics after the sweeps (surface_restore.h).
+  int restoredVertices = 0;
 };
 
 inline const char* toString(Guard g) {

@@ -9,6 +9,7 @@
 //   sweeper.h       the sweeps, colour by colour, lanes and threads
 //   flips.h         edge flips between sweeps
 //   sweep_quality.h the best state for keepBest and toleranceDeg
+//   surface_restore.h Filtered: smooth vertices back on the denoised surface
 #pragma once
 
 #include "boundary.h"
@@ -19,6 +20,7 @@
 #include "params.h"
 #include "repair.h"
 #include "run_setup.h"
+#include "surface_restore.h"
 #include "sweep_quality.h"
 #include "sweeper.h"
 #include "topology.h"
@@ -136,6 +138,15 @@ struct SodtSmoother {
     flipRules.cover = ctx.cover;
     flipRules.keepTurn = turnCos2 > 0;  // and the face turn bound
     flipRules.maxTurnCos2 = turnCos2;
+    // Filtered: the denoised surface's quadrics at its smooth vertices, to
+    // set them back on it after the sweeps.
+    std::vector<int> onQuadrics;
+    SurfaceQuadrics quadrics;
+    if (params.algorithm == Algorithm::Filtered) {
+      for (int i : active)
+        if (cls.cls[i] == VertexClass::Smooth) onQuadrics.push_back(i);
+      quadrics.fit(w.topo, w.pos, onQuadrics, std::cos(p.featureAngleDeg * kPi / 360.0), threads);
+    }
     BestState best(p.keepBest, p.toleranceDeg, p.flips, w.faces, w.pos, guardNormal, threads, tuning.simd);
 
     Sweeper<ScalarType> sweeper(ctx, w.pos, w.topo, guardNormal, active, threads, tuning, &slide);
@@ -155,6 +166,9 @@ struct SodtSmoother {
     sweeper.addCounts(stats);
     stats.returnedSweep = best.restore(stats.iterations, w.pos, w.faces, faceNormal);
     if (stats.returnedSweep != stats.iterations && p.flips) w.topo = buildRingTopology(w.faces, w.deleted);
+    if (!onQuadrics.empty())
+      stats.restoredVertices =
+          restoreOnQuadrics(quadrics, w.topo, faceNormal, p.guard == Guard::Quality, meanEdge, onQuadrics, w.pos);
     stats.maxFaceTurnDeg = largestFaceTurnDeg(w.faces, w.pos, faceNormal);
 
     Classification outCls = cls;
