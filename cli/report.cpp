@@ -264,7 +264,11 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
   else
     std::printf("  distance       Hausdorff %.3e, mean %.3e (relative to the input's bbox diagonal)\n",
                 dist.hausdorff, dist.mean);
-  if (o.params.algorithm == sodt::Algorithm::Filtered) std::printf("  filter         %s\n", sodt::describe(st.filter).c_str());
+  if (o.params.algorithm == sodt::Algorithm::Filtered) {
+    std::printf("  filter         %s\n", sodt::describe(st.filter).c_str());
+    std::printf("  restored       %d smooth vertices set back on the denoised surface after the sweeps\n",
+                st.restoredVertices);
+  }
   if (o.params.algorithm == sodt::Algorithm::Filtered && o.params.guard != sodt::Guard::None)
     std::printf("  face turn      at most %.3f deg from the denoised surface's orientation (bound %s deg for the "
                 "filtered sweeps; --max-face-turn unused)\n",
@@ -372,6 +376,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
     f["noise_estimated"] = st.filter.noiseEstimated;
     f["risk"] = number(st.filter.risk);
     f["risk_unfiltered"] = number(st.filter.riskNone);
+    f["restored_vertices"] = st.restoredVertices;
     j["filter"] = f;
   }
   j["moved"] = st.moved;

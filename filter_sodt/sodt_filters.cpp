@@ -410,6 +410,7 @@ Report smoothingReport(const CMeshO& m, const SmoothingRun& run) {
     r["filter_noise_estimated"] = s.filter.noiseEstimated;
     r["filter_risk"] = s.filter.risk;
     r["filter_risk_unfiltered"] = s.filter.riskNone;
+    r["filter_restored_vertices"] = s.restoredVertices;
   }
   return r;
 }

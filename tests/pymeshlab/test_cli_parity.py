@@ -54,5 +54,5 @@ def test_plugin_in_pymeshlab_equals_the_cli(pm, meshset, tmp_path, mesh, kwargs,
     if kwargs.get("algorithm") == "filtered":
         # The same filter, chosen for the same reasons.
         assert ["none", "normals", "taubin"][report["filter_kind"]] == cli["filter"]["kind"]
-        for k in ("steps", "noise_level", "noise_estimated", "risk", "risk_unfiltered"):
+        for k in ("steps", "noise_level", "noise_estimated", "risk", "risk_unfiltered", "restored_vertices"):
             assert report["filter_" + k] == cli["filter"][k], k
