@@ -384,6 +384,15 @@ def best_marked(rows, cases, methods, key):
     return best
 
 
+def distinct(a, b, digits):
+    """a and b as text with `digits` decimals, or with as many more as it
+    takes (up to 4) to tell them apart when they differ."""
+    d = digits
+    while d < digits + 4 and a != b and f"{a:.{d}f}" == f"{b:.{d}f}":
+        d += 1
+    return f"{a:.{d}f}", f"{b:.{d}f}"
+
+
 TARGET_SIGMAS = (0.2, 0.3, 0.5)
 TARGET_RIVALS = ("taubin", "meshdenoiser")
 RESULTS_BEGIN = "<!-- noise-benchmark:begin -->"
@@ -416,12 +425,12 @@ def target_checks(rows, method=SODT_FILTERED):
             rivals = [r[m] for m in TARGET_RIVALS if m in r]
             if rivals:
                 best = min(x["mean_ratio"] for x in rivals)
-                checks.append(("mean ≤ best rival", f"{me['mean_ratio']:.2f}× vs {best:.2f}×",
-                               me["mean_ratio"] <= best))
+                a, b = distinct(me["mean_ratio"], best, 2)
+                checks.append(("mean ≤ best rival", f"{a}× vs {b}×", me["mean_ratio"] <= best))
                 dh = [x["sharp_dihedral_err_deg"] for x in rivals if x.get("sharp_dihedral_err_deg") is not None]
                 if me.get("sharp_dihedral_err_deg") is not None and dh:
-                    checks.append(("dihedral ≤ best rival", f"{me['sharp_dihedral_err_deg']:.1f}° vs {min(dh):.1f}°",
-                                   me["sharp_dihedral_err_deg"] <= min(dh)))
+                    a, b = distinct(me["sharp_dihedral_err_deg"], min(dh), 1)
+                    checks.append(("dihedral ≤ best rival", f"{a}° vs {b}°", me["sharp_dihedral_err_deg"] <= min(dh)))
             checks.append(("min angle ≥ 20°", f"{me['min_angle']:.1f}°", me["min_angle"] >= 20))
             checks.append(("no inverted face", f"{me['inverted']}", me["inverted"] == 0))
         out.append((mesh, sigma, checks))

@@ -94,3 +94,11 @@ def test_targets_are_checked_against_the_rivals(run):
             x["min_angle"] = 19.9
     worse = {label: ok for _m, _s, cs in nb.target_checks(rows) for label, _v, ok in cs}
     assert not worse["mean ≤ best rival"] and not worse["min angle ≥ 20°"]
+    # Values that differ are written so that they read different.
+    for x in rows:
+        if x["method"] == "sodt_filtered":
+            x["mean_ratio"] = row(data, "taubin")["mean_ratio"] - 0.001
+    close = [v for _m, _s, cs in nb.target_checks(rows) for label, v, _ok in cs if label == "mean ≤ best rival"]
+    mine, best = close[0].split(" vs ")
+    assert mine != best, close[0]
+    assert nb.distinct(0.25, 0.25, 2) == ("0.25", "0.25")
