@@ -8,7 +8,9 @@
 namespace sodt {
 
 /// Triangle mesh with the components the core and the metrics need, with the
-/// coordinate/normal precision chosen by the component templates.
+/// coordinate/normal precision chosen by the component templates, and
+/// per-vertex texture coordinates (single precision, as in MeshLab's CMeshO
+/// and in PLY files) that the loaders and writers carry with each vertex.
 template <template <typename> class VertCoord, template <typename> class VertNormal,
           template <typename> class FaceNormal>
 struct MeshTypes {
@@ -18,7 +20,8 @@ struct MeshTypes {
                                            vcg::Use<Face>::template AsFaceType> {};
   class Vertex : public vcg::Vertex<UsedTypes, VertCoord, VertNormal, vcg::vertex::Qualityf,
                                     vcg::vertex::Color4b, vcg::vertex::VFAdj, vcg::vertex::Mark,
-                                    vcg::vertex::BitFlags> {};
+                                    vcg::vertex::BitFlags, vcg::vertex::TexCoord2f> {};
+  // TexCoord2f last: it then fills padding, 8 bytes a vertex where 16 elsewhere.
   class Face : public vcg::Face<UsedTypes, vcg::face::VertexRef, FaceNormal, vcg::face::FFAdj,
                                 vcg::face::VFAdj, vcg::face::Mark, vcg::face::BitFlags> {};
   class Mesh : public vcg::tri::TriMesh<std::vector<Vertex>, std::vector<Face>> {};
