@@ -17,6 +17,7 @@
 #include <cstring>
 #include <dirent.h>
 #include <fcntl.h>
+#include <chrono>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -24,6 +25,7 @@
 #include <sstream>
 #include <string>
 #include <tuple>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <sys/wait.h>
@@ -1704,7 +1706,24 @@ TEST(CliMessages, EachNamesTheProblemAndWhereItIs) {
       {"extra_values.off", "OFF\n4 4 0\n0 0 0 5 6\n1 0 0\n0 1 0\n0 0 1\n" + tetF,
        {"line 3 does not hold whole vertices", "vertex 1 runs on to line 4", "COFF"}},
       {"nul.off", std::string("OFF\n4 4 0\n0 0 0\n1 0\0 0\n", 21) + "0 1 0\n0 0 1\n" + tetF,
-       {"line 4: vertex 1: expected a number, got '0\\x00'"}},
+       {"not an OFF file: binary data (a NUL byte at byte offset 19, line 4)"}},
+      // A NUL byte past the first KB: reported where it is.
+      {"late_nul.off", "OFF\n# " + std::string(1100, '-') + "\n4 4 0\n0 0 0\n1 0" + std::string(1, '\0') +
+                           " 0\n0 1 0\n0 0 1\n" + tetF,
+       {"line 5: vertex 1: expected a number, got '0\\x00'"}},
+      // A binary STL whose header starts with "solid" and whose size is one
+      // byte off: named as such, no raw bytes in the message.
+      {"solid_header_binary_padded.stl",
+       [] {
+         std::string b = "solid exported by a CAD system";
+         b.resize(80, '\0');
+         b += std::string("\x01\x00\x00\x00", 4);
+         const float rec[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+         b.append(reinterpret_cast<const char*>(rec), sizeof rec);
+         return b + std::string(2, '\0') + std::string(1, '\0');
+       }(),
+       {"a binary STL whose header starts with 'solid', but its size is 135 bytes where 84 + 50 x 1 = 134 "
+        "were expected (truncated or padded?)"}},
   };
   for (const auto& c : cases) expectStatsFails(dir, std::get<0>(c), std::get<1>(c), std::get<2>(c));
   // Line ends of every kind: "\r\n" and a lone '\r' (old Mac files) read as '\n'.
@@ -1856,7 +1875,13 @@ TEST(CliFormats, MalformedObjAndStlFailWithOneLine) {
       {"index_zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "expected a vertex index, got '0'"},
       {"index_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "refers to vertex 9, but the file has 3"},
       {"relative_range.obj", "v 0 0 0\nf -1 -2 -3\n", "reaches before the first vertex"},
-      {"nul.obj", std::string("v 0 0 \0\n", 8), "expected a number, got '\\x00'"},
+      {"nul.obj", std::string("v 0 0 \0\n", 8), "not an OBJ file: binary data (a NUL byte at byte offset 6, line 1)"},
+      {"index_2147483648.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 2147483648\n",
+       "face 1 refers to vertex 2147483648, but the file has 3 vertices"},
+      {"index_20_digits.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n",
+       "line 4: vertex index 99999999999999999999 is out of range"},
+      {"index_minus_20_digits.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -99999999999999999999\n",
+       "line 4: vertex index -99999999999999999999 reaches before the first vertex"},
       {"no_solid.stl", "facet normal 0 0 1\n", "not an STL file"},
       {"short_binary.stl", std::string(80, 'x') + std::string("\x05\x00\x00\x00", 4) + std::string(60, '\0'),
        "as binary STL its size should be 84 + 50 x 5 = 334 bytes (it is 144)"},
@@ -1883,6 +1908,184 @@ TEST(CliFormats, BundledStlAndObjSmooth) {
     EXPECT_EQ(jsonNumber(json, "fixed_nonmanifold"), 0);
     EXPECT_EQ(jsonNumber(json, "fixed_boundary"), 0);
   }
+}
+
+// ---------------------------------------------------------------------------
+// Text files: byte-order marks, upper-case STL, binary data, long tokens
+
+/// A tetrahedron in each text format.
+std::map<std::string, std::string> textTetrahedra() {
+  const std::string v = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n" +
+                          v + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  std::string binaryPly = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+                          "property float y\nproperty float z\nelement face 4\n"
+                          "property list uchar int vertex_indices\nend_header\n";
+  const int tri[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const float xyz[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  binaryPly.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+  for (const auto& t : tri) {
+    binaryPly += '\3';
+    binaryPly.append(reinterpret_cast<const char*>(t), sizeof t);
+  }
+  std::string stl = "solid t\n";
+  for (const auto& t : tri) {
+    stl += "facet normal 0 0 0\nouter loop\n";
+    for (int c : t)
+      stl += "vertex " + std::to_string(int(xyz[c][0])) + " " + std::to_string(int(xyz[c][1])) + " " +
+             std::to_string(int(xyz[c][2])) + "\n";
+    stl += "endloop\nendfacet\n";
+  }
+  stl += "endsolid t\n";
+  return {{"tet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"},
+          {"tet.off", "OFF\n4 4 0\n" + v + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"},
+          {"tet.ply", ply},
+          {"tet_binary.ply", binaryPly},
+          {"tet.stl", stl}};
+}
+
+TEST(CliFormats, AByteOrderMarkIsSkippedInEveryTextFormat) {
+  TempDir dir;
+  for (const auto& t : textTetrahedra()) {
+    SCOPED_TRACE(t.first);
+    writeFile(dir / t.first, t.second);
+    writeFile(dir / ("bom_" + t.first), "\xEF\xBB\xBF" + t.second);
+    sodt::MeshD plain, bom;
+    sodt::loadMesh(dir / t.first, plain);
+    ASSERT_NO_THROW(sodt::loadMesh(dir / ("bom_" + t.first), bom));
+    ASSERT_EQ(bom.vn, plain.vn);
+    ASSERT_EQ(bom.fn, plain.fn);
+    for (int i = 0; i < plain.vn; ++i) EXPECT_EQ(bom.vert[i].P(), plain.vert[i].P()) << "vertex " << i;
+    for (int f = 0; f < plain.fn; ++f)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_EQ(bom.face[f].V(k) - &bom.vert[0], plain.face[f].V(k) - &plain.vert[0]) << "face " << f;
+  }
+  // The OBJ of the report: the first vertex was lost, every face shifted.
+  writeFile(dir / "first.obj", "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+                               "v 5 5 5\n");
+  const RunResult r = runSodt({"stats", dir / "first.obj"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(jsonNumber(r.out, "vertices"), 5) << r.out;
+  EXPECT_NEAR(jsonNumber(r.out, "volume"), 1.0 / 6, 1e-15) << r.out;
+}
+
+TEST(CliFormats, AsciiStlKeywordsAreReadInAnyCase) {
+  TempDir dir;
+  const std::string upper = "SOLID t\n FACET NORMAL 0 0 1\n  OUTER LOOP\n   VERTEX 0 0 0\n   VERTEX 1 0 0\n"
+                            "   VERTEX 0 1 0\n  ENDLOOP\n ENDFACET\nENDSOLID t\n";
+  std::string mixed = upper;
+  for (std::size_t k = 0; k < mixed.size(); k += 2) mixed[k] = static_cast<char>(std::tolower(mixed[k]));
+  const std::map<std::string, std::string> files{
+      {"upper.stl", upper}, {"mixed.stl", mixed}, {"bom_upper.stl", "\xEF\xBB\xBF" + upper}};
+  for (const auto& f : files) {
+    SCOPED_TRACE(f.first);
+    writeFile(dir / f.first, f.second);
+    sodt::MeshD m;
+    ASSERT_NO_THROW(sodt::loadMesh(dir / f.first, m));
+    EXPECT_EQ(m.vn, 3);
+    EXPECT_EQ(m.fn, 1);
+    EXPECT_EQ(m.vert[1].P(), vcg::Point3d(1, 0, 0));
+    const RunResult r = runSodt({"stats", dir / f.first}, dir);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(jsonNumber(r.out, "faces"), 1) << r.out;
+  }
+}
+
+struct MeasuredRun {
+  int exitCode = -1;  ///< -1 when it did not exit normally (killed at the time limit)
+  long maxRssKiB = 0;
+  double seconds = 0;
+  std::string err;
+};
+
+/// Runs sodt with args, its stderr captured, killed after 20 s; reports
+/// its peak resident memory. Outside AddressSanitizer builds its address
+/// space is also capped at 2 GiB, so that a reader that does not stop
+/// fails with bad_alloc instead of filling the machine.
+MeasuredRun runMeasured(const std::vector<std::string>& args, const TempDir& dir) {
+  const std::string errPath = dir / "measured_stderr.txt";
+  std::vector<std::string> argv{SODT_BIN};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::vector<char*> cargv;
+  for (std::string& a : argv) cargv.push_back(&a[0]);
+  cargv.push_back(nullptr);
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    const int null = ::open("/dev/null", O_RDWR);
+    if (fd < 0 || null < 0) ::_exit(126);
+    ::dup2(null, 0);
+    ::dup2(null, 1);
+    ::dup2(fd, 2);
+#if !defined(__SANITIZE_ADDRESS__)
+    const struct rlimit limit{2048L << 20, 2048L << 20};
+    ::setrlimit(RLIMIT_AS, &limit);
+#endif
+    ::alarm(20);
+    ::execv(cargv[0], cargv.data());
+    ::_exit(127);
+  }
+  MeasuredRun r;
+  int status = 0;
+  struct rusage ru{};
+  if (pid > 0 && ::wait4(pid, &status, 0, &ru) == pid) {
+    if (WIFEXITED(status)) r.exitCode = WEXITSTATUS(status);
+    r.maxRssKiB = ru.ru_maxrss;
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.err = readFile(errPath);
+  ::unlink(errPath.c_str());
+  return r;
+}
+
+TEST(CliFormats, BinaryDataIsRefusedAfterItsFirstBytes) {
+  TempDir dir;
+  // 256 MiB of zero bytes (a sparse file, nothing on disk) in every format's
+  // name, and the endless /dev/zero behind a symbolic link.
+  for (const char* ext : {".stl", ".obj", ".off", ".ply"}) {
+    const std::string zeros = dir / (std::string("zeros") + ext), endless = dir / (std::string("endless") + ext);
+    const int fd = ::open(zeros.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::ftruncate(fd, 256L << 20), 0);
+    ::close(fd);
+    ASSERT_EQ(::symlink("/dev/zero", endless.c_str()), 0);
+    for (const std::string& in : {zeros, endless}) {
+      SCOPED_TRACE(in);
+      const MeasuredRun r = runMeasured({"stats", in}, dir);
+      EXPECT_EQ(r.exitCode, 1) << r.err;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+      EXPECT_EQ(r.err.find("out of memory"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("'" + in + "': "), std::string::npos) << r.err;
+      EXPECT_LT(r.maxRssKiB, 200L << 10) << r.err;
+      EXPECT_LT(r.seconds, 10) << r.err;
+    }
+  }
+}
+
+TEST(CliFormats, OverlongTokensAndLinesAreRefused) {
+  TempDir dir;
+  const std::string digits(100000, '1');
+  const std::vector<std::tuple<std::string, std::string, std::vector<std::string>>> cases{
+      {"long_number.obj", "v 0 0 " + digits + "\n", {"line 1: more than 4096 bytes without a space"}},
+      {"long_number.off", "OFF\n3 1 0\n0 0 " + digits + "\n", {"line 3: more than 4096 bytes without a space"}},
+      {"long_number.stl", "solid s\nfacet normal 0 0 " + digits + "\n", {"line 2: more than 4096 bytes"}},
+      {"long_number.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+       "end_header\n0 0 " + digits + "\n",
+       {"data line 1: more than 4096 bytes"}},
+      {"long_header_line.ply", "ply\nformat ascii 1.0\n" + std::string(2 << 20, 'x') + "\n",
+       {"header line 3 is longer than 1048576 bytes"}},
+  };
+  for (const auto& c : cases) expectStatsFails(dir, std::get<0>(c), std::get<1>(c), std::get<2>(c));
+  // Statements the OBJ reader ignores may be long: they are skipped, not stored.
+  std::string groups = "g";
+  for (int k = 0; k < 200000; ++k) groups += " part";
+  writeFile(dir / "long_group.obj", groups + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const RunResult r = runSodt({"stats", dir / "long_group.obj"}, dir);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(jsonNumber(r.out, "faces"), 1) << r.out;
 }
 
 }  // namespace

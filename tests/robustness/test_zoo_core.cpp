@@ -568,12 +568,20 @@ TEST(ZooLoader, LongTextFilesAreReadAcrossTheScannerBlocks) {
     } else {
       EXPECT_NE(named.find("malformed integer '1x0'"), std::string::npos) << named;
     }
-    // A token longer than two blocks: 2.5 million zeros before a value.
+    // A token of 4096 bytes, the longest read (zeros before a value), and
+    // one longer, refused: binary data read as text must not grow a token
+    // without bound.
     std::string longToken = text;
-    longToken.insert(faces + 2, std::string(2500000, '0'));
+    longToken.insert(faces + 2, std::string(4095, '0'));
     ASSERT_EQ(load(name, longToken, m), "");
     EXPECT_EQ(m.face[0].cV(0) - &m.vert[0], 0);
     EXPECT_EQ(m.face[0].cV(1) - &m.vert[0], 1);
+    longToken.insert(faces + 2, "0");
+    const std::string refused = load(name, longToken, m);
+    const long line = static_cast<long>(std::count(text.begin(), text.begin() + faces, '\n')) + 1;
+    EXPECT_NE(refused.find(off ? "line " + std::to_string(line) + ": more than 4096 bytes without a space"
+                               : std::string("more than 4096 bytes without a space")),
+              std::string::npos) << refused;
   }
   ::rmdir(dir);
 }

@@ -89,15 +89,27 @@ long long fileSize(const std::string& path) {
 /// istream's >> skips it).
 inline bool isSpace(char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
 
+/// Longest run of bytes without a space or line end a text reader accepts:
+/// far more than any number needs, and what keeps binary data read as text
+/// (a file of zero bytes, /dev/zero) from growing one token without bound.
+constexpr std::size_t kMaxToken = 4096;
+
 /// The whitespace-separated tokens of a text stream, read in large blocks:
-/// the tokenizer of the OFF reader and of the ASCII PLY check. Lines end at
-/// '\n', "\r\n" or a lone '\r'; with comments, a '#' ends a token and starts a comment that runs
-/// to the end of its line. Blocks, with no library call per character and
-/// no string per token, keep the tokenizing cheaper than the parsing of the
-/// numbers themselves.
+/// the tokenizer of the OFF, OBJ and ASCII STL readers and of the ASCII PLY
+/// check. Lines end at '\n', "\r\n" or a lone '\r'; with comments, a '#'
+/// ends a token and starts a comment that runs to the end of its line.
+/// Blocks, with no library call per character and no string per token, keep
+/// the tokenizing cheaper than the parsing of the numbers themselves. A
+/// token longer than kMaxToken throws InvalidInput.
 class TextScanner {
  public:
-  TextScanner(std::istream& in, bool comments) : in_(in), comments_(comments), buf_(kBlock + 1, '\0') {}
+  /// in is read from its start when format names the file's format ("OBJ",
+  /// "OFF", "STL"): a UTF-8 byte-order mark is skipped, and a NUL byte in the
+  /// first KB (binary data) throws InvalidInput. With format empty, in is
+  /// read from where it is (the data after a PLY header), and messages count
+  /// "data line"s. path names the file in messages.
+  TextScanner(std::istream& in, bool comments, const std::string& path, const std::string& format)
+      : in_(in), comments_(comments), path_(path), format_(format), buf_(kBlock + 1, '\0') {}
 
   /// Next token, crossing line ends: [p, p + n), valid until the next call
   /// and followed by a character that ends it (whitespace, '#' with
@@ -116,6 +128,22 @@ class TextScanner {
     if (!next(p, n)) return false;
     tok.assign(p, n);
     return true;
+  }
+  /// The next token of the current line, as next(); false when the line
+  /// has no more (its line end, or its comment and line end, are consumed
+  /// then) or at the end of the stream.
+  bool nextOnLine(const char*& p, std::size_t& n) { return skipTo(false) && take(p, n); }
+  /// Skips spaces; true when the current line has no more tokens (a line
+  /// end, a comment or the end of the stream comes next, not consumed).
+  bool lineEnds() {
+    for (;;) {
+      if (at_ == end_ && !fill()) return true;
+      const char c = buf_[at_];
+      if (c == '\n' || c == '\r' || (comments_ && c == '#')) return true;
+      if (!isSpace(c)) return false;
+      ++at_;
+      midLine_ = true;
+    }
   }
   /// Drops what is left of the current line, its line end included.
   void skipRestOfLine() {
@@ -143,13 +171,17 @@ class TextScanner {
       midLine_ = true;
     }
   }
-  /// Takes the tokens left on the current line and its '\n'.
-  std::vector<std::string> restOfLine() {
+  /// Takes the tokens left on the current line and its '\n'; throws
+  /// InvalidInput when there are more than maxTokens.
+  std::vector<std::string> restOfLine(std::size_t maxTokens) {
     std::vector<std::string> r;
     const char* p = nullptr;
     std::size_t n = 0;
     while (skipTo(false)) {
       take(p, n);
+      if (r.size() == maxTokens)
+        throw InvalidInput(quoted(path_) + ": " + lineWord() + " " + std::to_string(tokenLine_) + ": more than " +
+                           std::to_string(maxTokens) + " values on one line");
       r.emplace_back(p, n);
     }
     return r;
@@ -165,6 +197,19 @@ class TextScanner {
     midLine_ = false;
   }
   bool ends(char c) const { return isSpace(c) || (comments_ && c == '#'); }
+  const char* lineWord() const { return format_.empty() ? "data line" : "line"; }
+
+  /// The start of a file: skips a byte-order mark, refuses NUL bytes.
+  void checkStart() {
+    static const char bom[] = "\xEF\xBB\xBF";
+    if (end_ >= 3 && std::memcmp(buf_.data(), bom, 3) == 0) at_ = 3;
+    const char* nul = static_cast<const char*>(std::memchr(buf_.data(), '\0', std::min<std::size_t>(end_, 1024)));
+    if (nul == nullptr) return;
+    const std::size_t offset = static_cast<std::size_t>(nul - buf_.data());
+    const long line = 1 + static_cast<long>(std::count(static_cast<const char*>(buf_.data()), nul, '\n'));
+    throw InvalidInput(quoted(path_) + ": not an " + format_ + " file: binary data (a NUL byte at byte offset " +
+                       std::to_string(offset) + ", line " + std::to_string(line) + ")");
+  }
 
   /// Reads more of the stream after [at_, end_), which moves to the front of
   /// the buffer (growing it when that is all of it); false at the end.
@@ -184,7 +229,11 @@ class TextScanner {
     end_ += got;
     buf_[end_] = '\0';
     if (got == 0) eof_ = true;
-    return got > 0;
+    if (!started_) {
+      started_ = true;
+      if (!format_.empty()) checkStart();
+    }
+    return got > 0 && at_ < end_;
   }
 
   /// Skips whitespace and comments up to the next token (crossLines) or to
@@ -224,6 +273,10 @@ class TextScanner {
     std::size_t j = at_;
     for (;;) {
       while (j < end_ && !ends(buf_[j])) ++j;
+      if (j - at_ > kMaxToken)
+        throw InvalidInput(quoted(path_) + ": " + lineWord() + " " + std::to_string(tokenLine_) + ": more than " +
+                           std::to_string(kMaxToken) +
+                           " bytes without a space or line end (binary data, or not a text mesh file?)");
       if (j < end_ || eof_) break;
       const std::size_t done = j - at_;
       const bool more = fill();
@@ -238,9 +291,11 @@ class TextScanner {
 
   std::istream& in_;
   bool comments_;
+  const std::string path_, format_;
   std::vector<char> buf_;
   std::size_t at_ = 0, end_ = 0;
   bool eof_ = false;
+  bool started_ = false;   ///< the first block has been read
   long lines_ = 0;         ///< line ends consumed
   bool afterCr_ = false;   ///< the last character consumed was a '\r' that ended a line
   bool midLine_ = false;   ///< characters consumed after the last '\n'
@@ -285,6 +340,9 @@ struct OffData {
   std::vector<double> xyz;
   std::vector<int> tri;
   std::vector<unsigned char> rgba;  ///< 4 per vertex when hasColor
+  std::vector<double> normals;      ///< 3 per vertex with the N prefix
+  std::vector<float> uv;            ///< 2 per vertex with the ST prefix
+  long badUvLine = 0;               ///< the first line whose texture coordinates are missing or not numbers
   bool polygons = false;
   bool color = false;     ///< the keyword has the C prefix
   bool hasColor = false;  ///< some vertex has an RGB(A) colour
@@ -309,7 +367,7 @@ bool parseOffColor(const std::vector<std::string>& t, std::size_t n, unsigned ch
 void readOff(const std::string& path, OffData& d) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput("cannot open " + quoted(path) + ": " + std::strerror(errno));
-  TextScanner t(in, true);
+  TextScanner t(in, true, path, "OFF");
   // Set at the first vertex whose values run over a line end: a line with
   // more or fewer values than whole vertices shifts every later value, and
   // the error it causes (in the faces, say) is far from that line.
@@ -365,7 +423,7 @@ void readOff(const std::string& path, OffData& d) {
       double x = 0;
       if (!parseDouble(p, n, x))
         fail("vertex " + std::to_string(i) + ": expected a number, got " + shown(p, n));
-      if (k < 3) d.xyz.push_back(x);
+      (k < 3 ? d.xyz : d.normals).push_back(x);
     }
     if (shiftHint.empty() && t.line() != firstLine)
       shiftHint = "; line " + std::to_string(firstLine) + " does not hold whole vertices (an OFF vertex has " +
@@ -373,12 +431,17 @@ void readOff(const std::string& path, OffData& d) {
                   "; colours need the COFF keyword), so vertex " + std::to_string(i) + " runs on to line " +
                   std::to_string(t.line()) + " and every later value is shifted";
     if (lineBased) {
-      const std::vector<std::string> rest = t.restOfLine();
+      // A colour (3 or 4 values) and texture coordinates (2): a handful.
+      const std::vector<std::string> rest = t.restOfLine(16);
+      const std::size_t tex = texcoords ? std::min<std::size_t>(2, rest.size()) : 0;
       unsigned char c[4] = {255, 255, 255, 255};
-      if (d.color && rest.size() >= (texcoords ? 2u : 0u) &&
-          parseOffColor(rest, rest.size() - (texcoords ? 2u : 0u), c))
-        d.hasColor = true;
+      if (d.color && parseOffColor(rest, rest.size() - tex, c)) d.hasColor = true;
       if (d.color) d.rgba.insert(d.rgba.end(), c, c + 4);
+      for (std::size_t k = 0; k < 2 && texcoords; ++k) {
+        double x = 0;
+        if ((tex < 2 || !parseDouble(rest[rest.size() - 2 + k], x)) && d.badUvLine == 0) d.badUvLine = t.line();
+        d.uv.push_back(static_cast<float>(x));
+      }
     }
   }
   d.tri.reserve(static_cast<std::size_t>(3 * std::min(nf, cap)));
@@ -415,19 +478,25 @@ void readOff(const std::string& path, OffData& d) {
 struct PlainMesh {
   std::vector<double> xyz;
   std::vector<int> tri;
+  std::vector<float> uv;  ///< OBJ: 2 per vertex when every vertex has one pair of texture coordinates
+  bool normals = false;   ///< OBJ: the file has 'vn' statements
+  std::vector<std::string> dropped;  ///< see LoadInfo::dropped
   bool polygons = false;
   long long corners = 0;  ///< STL: face corners read, before welding
 };
 
-/// Puts positions (3 per vertex) and triangles (3 indices each) into m.
+/// Puts positions (3 per vertex), triangles (3 indices each) and, when
+/// given, texture coordinates (2 per vertex) into m.
 template <class M>
-void fillMesh(const std::vector<double>& xyz, const std::vector<int>& tri, M& m) {
+void fillMesh(const std::vector<double>& xyz, const std::vector<int>& tri, const std::vector<float>& uv, M& m) {
   using Scalar = typename M::ScalarType;
   const std::size_t nv = xyz.size() / 3, nt = tri.size() / 3;
   m.Clear();
   if (nv > 0) vcg::tri::Allocator<M>::AddVertices(m, nv);
   for (std::size_t i = 0; i < nv; ++i)
     m.vert[i].P() = typename M::CoordType(Scalar(xyz[3 * i]), Scalar(xyz[3 * i + 1]), Scalar(xyz[3 * i + 2]));
+  if (uv.size() == 2 * nv && vcg::tri::HasPerVertexTexCoord(m))
+    for (std::size_t i = 0; i < nv; ++i) m.vert[i].T() = typename M::VertexType::TexCoordType(uv[2 * i], uv[2 * i + 1]);
   if (nt > 0) vcg::tri::Allocator<M>::AddFaces(m, nt);
   for (std::size_t f = 0; f < nt; ++f)
     for (int k = 0; k < 3; ++k) m.face[f].V(k) = &m.vert[static_cast<std::size_t>(tri[3 * f + k])];
@@ -437,76 +506,228 @@ template <class M>
 void loadOff(const std::string& path, M& m, LoadInfo& info) {
   OffData d;
   readOff(path, d);
-  fillMesh(d.xyz, d.tri, m);
+  if (d.badUvLine > 0) {
+    d.uv.clear();
+    info.dropped.push_back("texture coordinates (missing or not numbers on line " + std::to_string(d.badUvLine) + ")");
+  }
+  fillMesh(d.xyz, d.tri, d.uv, m);
   if (d.hasColor) {
     for (std::size_t i = 0; i < m.vert.size(); ++i)
       m.vert[i].C() = vcg::Color4b(d.rgba[4 * i], d.rgba[4 * i + 1], d.rgba[4 * i + 2], d.rgba[4 * i + 3]);
     info.vertexColor = true;
   }
+  if (!d.normals.empty()) {
+    using NormalType = typename M::VertexType::NormalType;
+    using NormalScalar = typename NormalType::ScalarType;
+    for (std::size_t i = 0; i < m.vert.size(); ++i)
+      m.vert[i].N() = NormalType(NormalScalar(d.normals[3 * i]), NormalScalar(d.normals[3 * i + 1]),
+                                 NormalScalar(d.normals[3 * i + 2]));
+    info.vertexNormals = true;
+  }
+  info.vertexTexCoords = !d.uv.empty();
   info.polygons = d.polygons;
 }
 
 // ---------------------------------------------------------------------------
 // OBJ reading
 
-/// Reads the vertices ('v') and faces ('f', as i, i/t, i//n or i/t/n, with
-/// negative indices counting back from the last vertex so far) of a
-/// Wavefront OBJ file; polygons are fan-triangulated; comments, line
-/// continuations and every other statement (texture coordinates, normals,
-/// groups, materials, lines...) are accepted and ignored.
+/// The per-vertex texture coordinates of an OBJ file whose faces name them
+/// per corner: kept when every corner of a vertex names the same pair.
+class ObjTexCoords {
+ public:
+  /// A 'vt' statement's values.
+  void add(float u, float v) { vt_.insert(vt_.end(), {u, v}); }
+  long long count() const { return static_cast<long long>(vt_.size() / 2); }
+  /// The texture coordinate index (0-based, -1 for none) of the triangle
+  /// corner just added to the mesh's triangle list, whose size is corners.
+  void corner(long long t, std::size_t corners) {
+    if (t >= 0 && !named_) {  // the first corner with one
+      named_ = true;
+      corner_.assign(corners - 1, -1);
+    }
+    if (named_) corner_.push_back(t);
+  }
+  /// A corner of line line whose texture coordinate index is not one.
+  void bad(long line) {
+    if (badLine_ == 0) badLine_ = line;
+  }
+  /// Per-vertex texture coordinates into d.uv, or why not into d.dropped.
+  void resolve(PlainMesh& d) const {
+    if (badLine_ > 0) {
+      d.dropped.push_back("texture coordinates (line " + std::to_string(badLine_) + " has a bad index)");
+      return;
+    }
+    if (!named_) return;
+    const std::size_t nv = d.xyz.size() / 3;
+    std::vector<long long> of(nv, -1);
+    std::vector<char> several(nv, 0);
+    bool missing = false;
+    for (std::size_t k = 0; k < corner_.size(); ++k) {
+      const long long t = corner_[k];
+      if (t >= count()) {
+        d.dropped.push_back("texture coordinates (face " + std::to_string(k / 3) + " names pair " +
+                            std::to_string(t + 1) + ", the file has " + std::to_string(count()) + ")");
+        return;
+      }
+      const std::size_t v = static_cast<std::size_t>(d.tri[k]);
+      if (t < 0) {
+        missing = true;
+      } else if (of[v] < 0) {
+        of[v] = t;
+      } else if (of[v] != t && (vt_[2 * of[v]] != vt_[2 * t] || vt_[2 * of[v] + 1] != vt_[2 * t + 1])) {
+        several[v] = 1;
+      }
+    }
+    const long long seams = std::count(several.begin(), several.end(), 1);
+    if (seams > 0) {
+      d.dropped.push_back("texture coordinates per face corner (" + std::to_string(seams) +
+                          (seams == 1 ? " vertex has" : " vertices have") + " several)");
+    } else if (missing) {
+      d.dropped.push_back("texture coordinates (some face corners have none)");
+    } else {
+      d.uv.assign(2 * nv, 0.0f);
+      for (std::size_t v = 0; v < nv; ++v)
+        if (of[v] >= 0) {
+          d.uv[2 * v] = vt_[2 * of[v]];
+          d.uv[2 * v + 1] = vt_[2 * of[v] + 1];
+        }
+    }
+  }
+
+ private:
+  std::vector<float> vt_;
+  long badLine_ = 0;               ///< the first line with a bad texture coordinate index
+  bool named_ = false;             ///< a corner has named texture coordinates
+  std::vector<long long> corner_;  ///< per triangle corner, once named_
+};
+
+/// The statements of an OBJ file that readObj ignores, in order of first
+/// appearance, for LoadInfo::dropped.
+class ObjIgnored {
+ public:
+  void add(const std::string& word) {
+    if (std::find(words_.begin(), words_.end(), word) != words_.end()) return;
+    if (words_.size() < 8)
+      words_.push_back(word);
+    else
+      more_ = true;
+  }
+  void into(std::vector<std::string>& dropped) const {
+    if (words_.empty()) return;
+    std::string s = words_.size() == 1 ? "OBJ statement " : "OBJ statements ";
+    for (std::size_t k = 0; k < words_.size(); ++k) s += (k ? ", " : "") + shown(words_[k]);
+    dropped.push_back(s + (more_ ? " and more" : ""));
+  }
+
+ private:
+  std::vector<std::string> words_;
+  bool more_ = false;
+};
+
+/// Reads a Wavefront OBJ file: vertices ('v'), faces ('f', as i, i/t, i//n
+/// or i/t/n, with negative indices counting back from the last vertex or
+/// texture coordinate so far; polygons fan-triangulated), texture
+/// coordinates ('vt': per vertex when every corner of a vertex names the
+/// same) and whether there are normals ('vn'). Comments, line continuations
+/// and smoothing groups ('s') are accepted; every other statement (groups,
+/// materials, lines, vertex colours...) is ignored and listed in d.dropped.
+/// Statements are read a token at a time: no line is held in memory.
 void readObj(const std::string& path, PlainMesh& d) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput("cannot open " + quoted(path) + ": " + std::strerror(errno));
-  TextScanner t(in, true);
+  TextScanner t(in, true, path, "OBJ");
+  long line = 0;  // of the statement
   auto fail = [&](const std::string& what) {
-    throw InvalidInput(quoted(path) + ": OBJ parse error at line " + std::to_string(t.line()) + ": " + what);
+    throw InvalidInput(quoted(path) + ": OBJ parse error at line " + std::to_string(line) + ": " + what);
   };
-  std::vector<long long> poly;
-  std::vector<std::string> rest;
-  std::string word;
-  while (t.next(word)) {
-    const long line = t.line();
-    rest = t.restOfLine();
-    // A '\' at the end of a line continues the statement on the next one.
-    while (!rest.empty() && rest.back() == "\\") {
-      rest.pop_back();
-      const std::vector<std::string> more = t.restOfLine();
-      rest.insert(rest.end(), more.begin(), more.end());
+  const char* p = nullptr;
+  std::size_t n = 0;
+  // The next value of the statement; a '\' that ends a line continues it on the next.
+  auto nextValue = [&]() {
+    for (;;) {
+      if (!t.nextOnLine(p, n)) return false;
+      if (!(n == 1 && *p == '\\' && t.lineEnds())) return true;
+      t.skipRestOfLine();
     }
+  };
+  // The vertex of a corner, the [q, q + len) before its first '/':
+  // 1-based, or negative counting back from the last vertex so far (nv);
+  // 0-based on return. A number too large for any file is reported as written.
+  auto vertexIndex = [&](const char* q, std::size_t len, long long nv) {
+    long long v = 0;
+    const std::size_t sign = len > 0 && (*q == '-' || *q == '+') ? 1 : 0;
+    const bool digits = len > sign && std::all_of(q + sign, q + len, [](char c) { return c >= '0' && c <= '9'; });
+    const std::string written(q, len);
+    if (!parseLong(q, len, v)) {
+      if (!digits) fail("expected a vertex index, got " + shown(p, n));
+      v = *q == '-' ? LLONG_MIN : LLONG_MAX;  // beyond any file: reported below
+    }
+    if (v == 0) fail("expected a vertex index, got " + shown(p, n));
+    // Positive indices are checked once the whole file is read (forward references).
+    if (v < 0 && v < -nv) fail("vertex index " + written + " reaches before the first vertex");
+    if (v - 1 > INT_MAX) fail("vertex index " + written + " is out of range");
+    return v < 0 ? v + nv : v - 1;
+  };
+  ObjTexCoords texcoords;
+  ObjIgnored ignored;
+  bool vertexColours = false;
+  std::vector<long long> poly, polyT;
+  while (t.next(p, n)) {
+    line = t.line();
+    const std::string word(p, n);
     if (word == "v") {
-      if (rest.size() < 3) fail("a vertex needs 3 coordinates, line " + std::to_string(line) + " has " +
-                                std::to_string(rest.size()));
-      for (int k = 0; k < 3; ++k) {
+      int k = 0;
+      for (; nextValue(); ++k) {
         double x = 0;
-        if (!parseDouble(rest[static_cast<std::size_t>(k)], x))
-          fail("vertex " + std::to_string(d.xyz.size() / 3) + ": expected a number, got " +
-               shown(rest[static_cast<std::size_t>(k)]));
-        d.xyz.push_back(x);
+        if (k < 3 && !parseDouble(p, n, x))
+          fail("vertex " + std::to_string(d.xyz.size() / 3) + ": expected a number, got " + shown(p, n));
+        if (k < 3) d.xyz.push_back(x);
       }
+      if (k < 3) fail("a vertex needs 3 coordinates, line " + std::to_string(line) + " has " + std::to_string(k));
+      vertexColours = vertexColours || k >= 6;  // 'v x y z r g b'
+    } else if (word == "vt") {
+      double uv[2] = {0, 0};
+      int k = 0;
+      for (; nextValue(); ++k)
+        if (k < 2 && !parseDouble(p, n, uv[k]))
+          fail("texture coordinates " + std::to_string(texcoords.count()) + ": expected a number, got " + shown(p, n));
+      if (k == 0) fail("texture coordinates need a value");
+      texcoords.add(static_cast<float>(uv[0]), static_cast<float>(uv[1]));
     } else if (word == "f") {
-      if (rest.size() < 3) fail("a face needs 3 corners or more, got " + std::to_string(rest.size()));
       const long long nv = static_cast<long long>(d.xyz.size() / 3);
       poly.clear();
-      for (const std::string& c : rest) {
-        const std::string idx = c.substr(0, c.find('/'));
-        long long v = 0;
-        if (!parseLong(idx, v) || v == 0) fail("expected a vertex index, got " + shown(c));
-        // Negative: relative to the vertices so far; positive: 1-based,
-        // checked once the whole file is read (forward references).
-        if (v < 0) {
-          v += nv;
-          if (v < 0) fail("vertex index " + c + " reaches before the first vertex");
-        } else {
-          --v;
-          if (v > INT_MAX) fail("vertex index " + c + " is out of range");
+      polyT.clear();
+      while (nextValue()) {
+        const char* slash = static_cast<const char*>(std::memchr(p, '/', n));
+        const std::size_t len = slash ? static_cast<std::size_t>(slash - p) : n;
+        poly.push_back(vertexIndex(p, len, nv));
+        // Texture coordinates: as vertices, but a bad index only loses them.
+        long long ti = -1;
+        if (slash != nullptr) {
+          const char* tEnd = static_cast<const char*>(std::memchr(slash + 1, '/', n - len - 1));
+          const std::size_t tLen = tEnd ? static_cast<std::size_t>(tEnd - slash - 1) : n - len - 1;
+          const long long vt = texcoords.count();
+          long long tw = 0;  // as written
+          if (tLen > 0 && parseLong(slash + 1, tLen, tw) && tw != 0 && tw >= -vt && tw - 1 <= INT_MAX)
+            ti = tw < 0 ? tw + vt : tw - 1;
+          else if (tLen > 0)
+            texcoords.bad(line);
         }
-        poly.push_back(v);
+        polyT.push_back(ti);
       }
+      if (poly.size() < 3) fail("a face needs 3 corners or more, got " + std::to_string(poly.size()));
       if (poly.size() > 3) d.polygons = true;
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
-        d.tri.push_back(static_cast<int>(poly[0]));
-        d.tri.push_back(static_cast<int>(poly[k]));
-        d.tri.push_back(static_cast<int>(poly[k + 1]));
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+        for (std::size_t c : {std::size_t(0), k, k + 1}) {
+          d.tri.push_back(static_cast<int>(poly[c]));
+          texcoords.corner(polyT[c], d.tri.size());
+        }
+    } else {
+      if (word == "vn")
+        d.normals = true;
+      else if (word != "s")  // smoothing groups only shade normals, which are computed anew
+        ignored.add(word);
+      while (nextValue()) {
       }
     }
   }
@@ -514,7 +735,11 @@ void readObj(const std::string& path, PlainMesh& d) {
   for (std::size_t k = 0; k < d.tri.size(); ++k)
     if (d.tri[k] >= nv)
       throw InvalidInput(quoted(path) + ": OBJ face " + std::to_string(k / 3) + " refers to vertex " +
-                         std::to_string(d.tri[k] + 1) + ", but the file has " + std::to_string(nv) + " vertices");
+                         std::to_string(static_cast<long long>(d.tri[k]) + 1) + ", but the file has " +
+                         std::to_string(nv) + " vertices");
+  texcoords.resolve(d);
+  if (vertexColours) d.dropped.push_back("vertex colours ('v x y z r g b')");
+  ignored.into(d.dropped);
 }
 
 // ---------------------------------------------------------------------------
@@ -551,21 +776,45 @@ class CornerWelder {
   std::unordered_map<Key, int, Hash> index_;
 };
 
+/// Whether the STL keyword w is word (lower case), in any case.
+bool stlKeyword(const std::string& w, const char* word) {
+  if (w.size() != std::strlen(word)) return false;
+  for (std::size_t k = 0; k < w.size(); ++k)
+    if (std::tolower(static_cast<unsigned char>(w[k])) != word[k]) return false;
+  return true;
+}
+
+/// Whether the n bytes at p start, after a byte-order mark and whitespace,
+/// with "solid" in any case (as ASCII STL does).
+bool startsWithSolid(const char* p, std::size_t n) {
+  std::size_t i = n >= 3 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+  while (i < n && isSpace(p[i])) ++i;
+  return n - i >= 5 && stlKeyword(std::string(p + i, 5), "solid");
+}
+
 /// Reads a binary or ASCII STL file, its corners welded (CornerWelder). A
 /// file is binary when its size is 84 bytes plus 50 per triangle of the
-/// count at byte 80; else it must be ASCII ("solid ... endsolid", several
-/// solids allowed; a facet may have more than 3 vertices, fan-triangulated).
+/// count at byte 80; else it must be ASCII ("solid ... endsolid", keywords
+/// in any case, several solids allowed; a facet may have more than 3
+/// vertices, fan-triangulated). A file of another size that starts with
+/// "solid" but has a NUL byte in its first KB is a binary STL of the wrong
+/// size, and is reported as one.
 void readStl(const std::string& path, PlainMesh& d) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput("cannot open " + quoted(path) + ": " + std::strerror(errno));
-  const long long size = fileSize(path);
+  struct stat st;
+  const bool regular = ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+  const long long size = regular ? static_cast<long long>(st.st_size) : -1;
   CornerWelder weld;
-  unsigned char head[84] = {0};
-  in.read(reinterpret_cast<char*>(head), 84);
-  const long long got = in.gcount();
-  const std::uint32_t count = static_cast<std::uint32_t>(head[80]) | static_cast<std::uint32_t>(head[81]) << 8 |
-                              static_cast<std::uint32_t>(head[82]) << 16 | static_cast<std::uint32_t>(head[83]) << 24;
-  if (got == 84 && size == 84 + 50 * static_cast<long long>(count)) {
+  char head[1024] = {0};
+  in.read(head, sizeof head);
+  const std::size_t got = static_cast<std::size_t>(in.gcount());
+  std::uint32_t count = 0;
+  for (int k = 3; k >= 0; --k) count = count << 8 | static_cast<unsigned char>(head[80 + k]);
+  const long long binarySize = 84 + 50 * static_cast<long long>(count);
+  if (got >= 84 && size == binarySize) {
+    in.clear();
+    in.seekg(84);
     std::vector<char> rec(50 * 4096);
     for (std::uint32_t done = 0; done < count;) {
       const std::uint32_t n = std::min<std::uint32_t>(count - done, 4096);
@@ -582,23 +831,30 @@ void readStl(const std::string& path, PlainMesh& d) {
     d.corners = 3 * static_cast<long long>(count);
     return;
   }
+  const std::string sizes = "84 + 50 x " + std::to_string(count) + " = " + std::to_string(binarySize);
+  const std::string actual = size >= 0 ? std::to_string(size) + " bytes" : "not a regular file";
+  if (!startsWithSolid(head, got)) {
+    if (got >= 84)
+      throw InvalidInput(quoted(path) + ": not an STL file: as binary STL its size should be " + sizes +
+                         " bytes (it is " + (size >= 0 ? std::to_string(size) : actual) +
+                         "), and it does not start with 'solid'");
+    throw InvalidInput(quoted(path) + ": not an STL file (no 'solid' keyword, too short for binary STL)");
+  }
+  if (got >= 84 && std::memchr(head, '\0', got) != nullptr)
+    throw InvalidInput(quoted(path) + ": a binary STL whose header starts with 'solid', but its size is " +
+                       (size >= 0 ? actual : "unknown (" + actual + ")") + " where " + sizes +
+                       " were expected (truncated or padded?)");
   in.clear();
   in.seekg(0);
-  TextScanner t(in, false);
+  TextScanner t(in, false, path, "STL");
   auto fail = [&](const std::string& what) {
     throw InvalidInput(quoted(path) + ": STL parse error at line " + std::to_string(t.line()) + ": " + what);
   };
   std::string w;
-  if (!t.next(w) || w != "solid") {
-    if (got == 84)
-      throw InvalidInput(quoted(path) + ": not an STL file: as binary STL its size should be 84 + 50 x " +
-                         std::to_string(count) + " = " + std::to_string(84 + 50 * static_cast<long long>(count)) +
-                         " bytes (it is " + std::to_string(size) + "), and it does not start with 'solid'");
-    throw InvalidInput(quoted(path) + ": not an STL file (no 'solid' keyword, too short for binary STL)");
-  }
+  t.next(w);  // "solid" (startsWithSolid)
   auto expect = [&](const char* word) {
     if (!t.next(w)) fail(std::string("the file ends where '") + word + "' was expected");
-    if (w != word) fail(std::string("expected '") + word + "', got " + shown(w));
+    if (!stlKeyword(w, word)) fail(std::string("expected '") + word + "', got " + shown(w));
   };
   auto number = [&](const char* what) {
     if (!t.next(w)) fail(std::string("the file ends inside a ") + what);
@@ -606,18 +862,18 @@ void readStl(const std::string& path, PlainMesh& d) {
     if (!parseDouble(w, x)) fail(std::string("expected a number in a ") + what + ", got " + shown(w));
     return x;
   };
-  t.restOfLine();  // the solid's name
+  t.skipRestOfLine();  // the solid's name
   std::vector<int> poly;
   for (;;) {
     if (!t.next(w)) fail("the file ends without 'endsolid'");
-    if (w == "endsolid") {
-      t.restOfLine();
+    if (stlKeyword(w, "endsolid")) {
+      t.skipRestOfLine();
       if (!t.next(w)) break;  // the end
-      if (w != "solid") fail("expected 'solid' or the end of the file after 'endsolid', got " + shown(w));
-      t.restOfLine();
+      if (!stlKeyword(w, "solid")) fail("expected 'solid' or the end of the file after 'endsolid', got " + shown(w));
+      t.skipRestOfLine();
       continue;
     }
-    if (w != "facet") fail("expected 'facet' or 'endsolid', got " + shown(w));
+    if (!stlKeyword(w, "facet")) fail("expected 'facet' or 'endsolid', got " + shown(w));
     expect("normal");
     for (int k = 0; k < 3; ++k) number("facet normal");
     expect("outer");
@@ -625,8 +881,8 @@ void readStl(const std::string& path, PlainMesh& d) {
     poly.clear();
     for (;;) {
       if (!t.next(w)) fail("the file ends inside a facet");
-      if (w == "endloop") break;
-      if (w != "vertex") fail("expected 'vertex' or 'endloop', got " + shown(w));
+      if (stlKeyword(w, "endloop")) break;
+      if (!stlKeyword(w, "vertex")) fail("expected 'vertex' or 'endloop', got " + shown(w));
       const double x = number("vertex"), y = number("vertex"), z = number("vertex");
       poly.push_back(weld.add(x, y, z, d));
     }
@@ -643,8 +899,11 @@ template <class M>
 PlainMesh loadPlain(void (*read)(const std::string&, PlainMesh&), const std::string& path, M& m, LoadInfo& info) {
   PlainMesh d;
   read(path, d);
-  fillMesh(d.xyz, d.tri, m);
+  fillMesh(d.xyz, d.tri, d.uv, m);
   info.polygons = d.polygons;
+  info.vertexNormals = d.normals;
+  info.vertexTexCoords = !d.uv.empty();
+  info.dropped = d.dropped;
   return d;
 }
 
@@ -789,6 +1048,24 @@ PlyProperty parsePlyPropertyLine(const std::vector<std::string>& tok, int lineNo
   return pr;
 }
 
+/// Longest PLY header line read (a comment of metadata can be long; binary
+/// data read as a header line must not grow without bound).
+constexpr std::size_t kMaxPlyHeaderLine = 1 << 20;
+
+/// std::getline for PLY header line lineNo, which throws InvalidInput when
+/// the line is longer than kMaxPlyHeaderLine.
+bool plyHeaderLine(std::istream& in, std::string& line, int lineNo, const std::string& path) {
+  line.clear();
+  for (int c; (c = in.get()) != std::char_traits<char>::eof();) {
+    if (c == '\n') return true;
+    if (line.size() == kMaxPlyHeaderLine)
+      plyParseError(path, "header line " + std::to_string(lineNo) + " is longer than " +
+                              std::to_string(kMaxPlyHeaderLine) + " bytes");
+    line += static_cast<char>(c);
+  }
+  return !line.empty();
+}
+
 /// Reads the header of in, up to and including its 'end_header' line, and
 /// throws InvalidInput at a line vcglib's header reader cannot tokenize or
 /// would misread. A line ends at its first NUL byte; lines other than
@@ -798,7 +1075,7 @@ PlyHeader readPlyHeader(std::istream& in, const std::string& path) {
   std::string line;
   bool ended = false;
   int lineNo = 0;
-  while (!ended && std::getline(in, line)) {
+  while (!ended && plyHeaderLine(in, line, lineNo + 1, path)) {
     ++lineNo;
     const std::size_t nul = line.find('\0');
     if (nul != std::string::npos) line.resize(nul);
@@ -961,7 +1238,7 @@ class PlyBodyWalker {
         bodyStart_(in.tellg()),
         size_(fileSize(file)) {
     // An ASCII body is read by a scanner of its own (TextScanner).
-    if (ascii_) text_.reset(new TextScanner(in_, false));
+    if (ascii_) text_.reset(new TextScanner(in_, false, path, std::string()));
     if (!ascii_ && bodyStart_ >= 0) bufBase_ = static_cast<long long>(bodyStart_);
   }
 
@@ -1173,7 +1450,7 @@ class PlyBodyWalker {
 /// its declared type) and triangle strips with unchecked indices. Walks
 /// the whole body (ASCII or binary) and throws InvalidInput naming the first
 /// problem.
-void checkPlyStructure(const std::string& file, const std::string& path) {
+PlyHeader checkPlyStructure(const std::string& file, const std::string& path) {
   std::ifstream in(file, std::ios::binary);
   const PlyHeader header = readPlyHeader(in, path);
   checkPlyVertexElement(header.elems, path);
@@ -1182,6 +1459,44 @@ void checkPlyStructure(const std::string& file, const std::string& path) {
   const PlyFormat format = plyFormat(header.format, path);
   checkPlyCountsFit(header.elems, file, path);
   PlyBodyWalker(in, file, path, format, plyVertexCount(header.elems)).walk(header.elems);
+  return header;
+}
+
+/// What of a PLY file with header h a mesh read by vcglib's importer (which
+/// reported mask) does not keep, for LoadInfo::dropped: vertex properties
+/// other than the coordinates, flags (their selection bit), normals,
+/// colour, quality and texture coordinates (when texCoords: the mesh has
+/// them), face properties other than the vertex indices, other elements.
+std::vector<std::string> plyDropped(const PlyHeader& h, int mask, bool texCoords) {
+  namespace io = vcg::tri::io;
+  std::vector<std::string> kept{"x", "y", "z", "flags"};
+  auto keep = [&](bool read, std::initializer_list<const char*> names) {
+    if (read) kept.insert(kept.end(), names.begin(), names.end());
+  };
+  // The names vcglib's importer reads into each component.
+  keep(mask & io::Mask::IOM_VERTNORMAL, {"nx", "ny", "nz"});
+  keep(mask & io::Mask::IOM_VERTCOLOR, {"red", "green", "blue", "alpha", "diffuse_red", "diffuse_green",
+                                         "diffuse_blue", "diffuse_alpha", "intensity"});
+  keep(mask & io::Mask::IOM_VERTQUALITY, {"quality", "confidence"});
+  keep(texCoords && (mask & io::Mask::IOM_VERTTEXCOORD), {"s", "t", "texture_u", "texture_v"});
+  std::vector<std::string> out;
+  for (const PlyElement& e : h.elems) {
+    if (e.count == 0) continue;
+    if (e.name != "vertex" && e.name != "face") {
+      out.push_back(std::to_string(e.count) + " '" + e.name + "' element" + (e.count > 1 ? "s" : ""));
+      continue;
+    }
+    std::string names;
+    int n = 0;
+    for (const PlyProperty& pr : e.props) {
+      const bool read = e.name == "vertex" ? !pr.list && std::find(kept.begin(), kept.end(), pr.name) != kept.end()
+                                           : pr.isIndex;
+      if (read) continue;
+      names += (n++ ? ", '" : "'") + pr.name + "'";
+    }
+    if (n > 0) out.push_back(e.name + (n > 1 ? " properties " : " property ") + names);
+  }
+  return out;
 }
 
 /// A file removed when this goes out of scope.
@@ -1205,17 +1520,36 @@ std::ofstream scratchStream(ScratchFile& scratch, const std::string& path) {
   return std::ofstream(scratch.path, std::ios::binary | std::ios::trunc);
 }
 
-/// vcglib 2020.09 reads PLY header lines into a 512-byte buffer, so a long
-/// comment (metadata as JSON, say) breaks an otherwise valid header. When
-/// path has such comment or obj_info lines, writes a copy with them
-/// shortened into scratch and returns its path; otherwise returns path.
-std::string plyWithShortComments(const std::string& path, ScratchFile& scratch) {
+/// Longest PLY header read (with kMaxPlyHeaderLine, what keeps a header of
+/// endless lines from growing without bound).
+constexpr std::size_t kMaxPlyHeader = 16 << 20;
+
+/// The file the PLY checks and vcglib read: path itself, or a copy of it in
+/// scratch without what vcglib 2020.09 cannot read: a UTF-8 byte-order mark
+/// before "ply", and header comment or obj_info lines longer than its
+/// 512-byte line buffer (metadata as JSON, say), shortened. Throws
+/// InvalidInput at once when a file that is not empty does not start with
+/// "ply" (binary data, or another format).
+std::string plyPrepared(const std::string& path, ScratchFile& scratch) {
   const std::size_t kMaxLine = 500;  // below vcglib's limit, with room for "\r\n"
   std::ifstream in(path, std::ios::binary);
+  char start[6] = {0};
+  in.read(start, sizeof start);
+  const std::size_t got = static_cast<std::size_t>(in.gcount());
+  const bool bom = got >= 3 && std::memcmp(start, "\xEF\xBB\xBF", 3) == 0;
+  const std::size_t from = bom ? 3 : 0;
+  if (got > 0 && (got < from + 3 || std::memcmp(start + from, "ply", 3) != 0))
+    plyParseError(path, "the file does not start with 'ply'");
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(from));
   std::vector<std::string> header;
+  std::size_t bytes = 0;
   bool tooLong = false, complete = false;
   std::string line;
-  while (header.size() < 100000 && std::getline(in, line)) {
+  for (int lineNo = 1; !complete && plyHeaderLine(in, line, lineNo, path); ++lineNo) {
+    bytes += line.size() + 1;
+    if (bytes > kMaxPlyHeader)
+      plyParseError(path, "the header is longer than " + std::to_string(kMaxPlyHeader) + " bytes");
     const std::string word = line.substr(0, line.find_first_of(" \t\r"));
     if (line.size() > kMaxLine) {
       if (word != "comment" && word != "obj_info") return path;  // let vcglib report it
@@ -1223,19 +1557,16 @@ std::string plyWithShortComments(const std::string& path, ScratchFile& scratch) 
       line.resize(kMaxLine - 100);
     }
     header.push_back(line);
-    if (word == "end_header") {
-      complete = true;
-      break;
-    }
+    complete = word == "end_header";
   }
-  if (!tooLong || !complete) return path;
+  if (!bom && (!tooLong || !complete)) return path;
   std::ofstream out = scratchStream(scratch, path);
   for (const std::string& h : header) out << h << '\n';
-  out << in.rdbuf();  // the body, unchanged
+  if (in.peek() != std::char_traits<char>::eof()) out << in.rdbuf();  // the body, unchanged
   out.close();
   if (!out)
     throw InvalidInput(quoted(path) + ": cannot copy it to " + quoted(scratch.path) +
-                       " to shorten its long header comments");
+                       (bom ? " without its byte-order mark" : " to shorten its long header comments"));
   return scratch.path;
 }
 
@@ -1281,7 +1612,8 @@ std::string plyInLittleEndian(const std::string& file, const std::string& path, 
   std::vector<std::string> header;
   std::vector<PlyElement> elems;  // only counts and the sizes of the types
   bool bigEndian = false;
-  for (std::string line; std::getline(in, line);) {
+  std::string line;
+  for (int lineNo = 1; plyHeaderLine(in, line, lineNo, path); ++lineNo) {
     const std::vector<std::string> tok = plyWords(line);
     if (!tok.empty() && tok[0] == "format" && tok.size() >= 2) {
       if (tok[1] != "binary_big_endian") return file;
@@ -1314,9 +1646,9 @@ std::string plyInLittleEndian(const std::string& file, const std::string& path, 
 
 template <class M>
 void loadPly(const std::string& path, M& m, LoadInfo& info) {
-  ScratchFile shortened, swapped;
-  const std::string checked = plyWithShortComments(path, shortened);
-  checkPlyStructure(checked, path);  // first: vcglib's own header reader crashes on some headers
+  ScratchFile prepared, swapped;
+  const std::string checked = plyPrepared(path, prepared);
+  const PlyHeader header = checkPlyStructure(checked, path);  // first: vcglib's own header reader crashes on some headers
   const std::string file = plyInLittleEndian(checked, path, swapped);
   checkPlyHeader(file, path);
   using Importer = vcg::tri::io::ImporterPLY<M>;
@@ -1349,6 +1681,10 @@ void loadPly(const std::string& path, M& m, LoadInfo& info) {
   info.vertexQuality = (mask & vcg::tri::io::Mask::IOM_VERTQUALITY) != 0;
   info.vertexColor = (mask & vcg::tri::io::Mask::IOM_VERTCOLOR) != 0;
   info.polygons = (mask & vcg::tri::io::Mask::IOM_BITPOLYGONAL) != 0;
+  info.vertexNormals = (mask & vcg::tri::io::Mask::IOM_VERTNORMAL) != 0;
+  const bool texCoords = vcg::tri::HasPerVertexTexCoord(m);
+  info.vertexTexCoords = texCoords && (mask & vcg::tri::io::Mask::IOM_VERTTEXCOORD) != 0;
+  info.dropped = plyDropped(header, mask, texCoords);
 }
 
 /// Loads file, read as a mesh of format fmt, into m.
@@ -1366,6 +1702,7 @@ template <class M>
 void loadMeshImpl(const std::string& path, M& m, LoadInfo* infoOut) {
   LoadInfo info;
   m.Clear();
+  m.textures.clear();  // vcglib's Clear() keeps them
   const MeshFormat fmt = meshFormatFromPath(path);
   checkReadable(path);
   try {

@@ -8,6 +8,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace sodt {
 
@@ -42,29 +43,46 @@ struct LoadInfo {
   long long selectedVertices = 0;  ///< vertices whose selection bit is set
   bool polygons = false;         ///< faces with more than three corners were fan-triangulated
   long long weldedCorners = 0;   ///< STL: corners merged into a vertex with the same coordinates
+  /// The file has vertex normals (PLY nx/ny/nz, OFF N prefix, OBJ vn). The
+  /// mesh holds normals computed from its faces instead (a vertex no face
+  /// uses keeps a normal read from a PLY or OFF file).
+  bool vertexNormals = false;
+  bool vertexTexCoords = false;  ///< per-vertex texture coordinates were read into the mesh
+  /// What the file holds that the mesh does not keep, one item each, e.g.
+  /// "vertex property 'myattr'", "face properties 'red', 'green', 'blue'",
+  /// "OBJ statements 'mtllib', 'usemtl'".
+  std::vector<std::string> dropped;
 };
 
 /// Reads a triangle mesh from a .ply, .off, .obj or .stl file into m (m is
 /// cleared first).
 ///
 /// PLY is read with vcglib's importer; polygons are fan-triangulated. Per-vertex
-/// quality and colour are read when present; of a PLY "flags" property only
-/// the selection bit is kept, so a file saved with selection flags (MeshLab
-/// "flags" option) drives SodtParams::selectedOnly. OFF is read by a strict
-/// parser of this file (vcglib 2020.09's OFF importer does not range-check
-/// face indices); N/C/ST prefixes are accepted, COFF vertex colours (3 or 4
-/// values, 0..255 or 0..1) are read, normals, texture coordinates and face
-/// colours are skipped, polygons are fan-triangulated. OBJ: 'v' and 'f'
-/// statements (i, i/t, i//n, i/t/n corners, negative indices, polygons), all
-/// else ignored. STL: binary or ASCII; corners with equal coordinates are
-/// welded into one vertex (LoadInfo::weldedCorners). A file with vertices
-/// but no faces loads fine (callers decide whether that is an error). On
-/// return the mesh is compact, its bounding box and normals are up to date.
+/// quality, colour, normals and texture coordinates (s/t or texture_u/texture_v)
+/// and "TextureFile" comments (m.textures) are read when present; of a PLY
+/// "flags" property only the selection bit is kept, so a file saved with
+/// selection flags (MeshLab "flags" option) drives SodtParams::selectedOnly.
+/// OFF is read by a strict parser of this file (vcglib 2020.09's OFF importer
+/// does not range-check face indices); N/C/ST prefixes are accepted, COFF
+/// vertex colours (3 or 4 values, 0..255 or 0..1), normals and texture
+/// coordinates are read, face colours skipped, polygons fan-triangulated.
+/// OBJ: 'v', 'vt', 'vn' and 'f' statements (i, i/t, i//n, i/t/n corners,
+/// negative indices, polygons); texture coordinates are kept when every
+/// vertex has one pair in all its corners; all else is ignored (and listed in
+/// LoadInfo::dropped). STL: binary or ASCII (keywords in any case); corners
+/// with equal coordinates are welded into one vertex
+/// (LoadInfo::weldedCorners). A UTF-8 byte-order mark at the start of a text
+/// file (or of a PLY header) is skipped. A file with vertices but no faces
+/// loads fine (callers decide whether that is an error). On return the mesh
+/// is compact, its bounding box and normals (from the faces) are up to date.
 ///
 /// \throw InvalidInput with a one-line message naming the file: missing or
 ///        unreadable file, unsupported extension, parse error
-///        (with vcglib's error string for PLY), a face index out of range, or
-///        a non-finite coordinate (naming the vertex index).
+///        (with vcglib's error string for PLY), a face index out of range,
+///        a non-finite coordinate (naming the vertex index), binary data in a
+///        text format (a NUL byte in its first KB, a run of more than 4096
+///        bytes without a space or line end, a PLY header line longer than
+///        1 MiB).
 /// \param info when not null, receives what the file carried besides geometry.
 void loadMesh(const std::string& path, MeshD& m, LoadInfo* info = nullptr);
 /// Single-precision overload of loadMesh(const std::string&, MeshD&, LoadInfo*).
