@@ -7,6 +7,7 @@
 #include <sodt_io/io.h>
 #include <sodt/output.h>
 #include <sodt/params.h>
+#include <wrap/io_trimesh/import_ply.h>
 
 #include <algorithm>
 #include <array>
@@ -2086,6 +2087,271 @@ TEST(CliFormats, OverlongTokensAndLinesAreRefused) {
   const RunResult r = runSodt({"stats", dir / "long_group.obj"}, dir);
   EXPECT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(jsonNumber(r.out, "faces"), 1) << r.out;
+}
+
+// ---------------------------------------------------------------------------
+// What each output format keeps, and what it cannot
+
+/// The sphere of jitteredSphere(2, 0.3, seed) scaled by radius and moved to
+/// (centre, centre, centre).
+SimpleMesh smallSphereAt(double radius, double centre) {
+  SimpleMesh s = jitteredSphere(2, 0.3, 5u);
+  for (double& x : s.xyz) x = centre + radius * x;
+  return s;
+}
+
+/// Number of different positions among the vertices of m.
+int distinctPositions(const sodt::MeshD& m) {
+  std::vector<std::array<double, 3>> p;
+  for (const auto& v : m.vert) p.push_back({v.cP()[0], v.cP()[1], v.cP()[2]});
+  std::sort(p.begin(), p.end());
+  return static_cast<int>(std::unique(p.begin(), p.end()) - p.begin());
+}
+
+TEST(CliKeeps, StlOutputThatSinglePrecisionWouldCollapseIsRefused) {
+  TempDir dir;
+  // Radius 0.01 a million units from the origin, where floats are 0.0625
+  // apart: every vertex rounds to the same single-precision point.
+  const SimpleMesh far = smallSphereAt(0.01, 1e6);
+  writeFile(dir / "far.off", toOff(far));
+  writeFile(dir / "out.stl", "the previous file");
+  const RunResult r = runSodt({"smooth", dir / "far.off", dir / "out.stl", "--iterations", "2", "--quiet"}, dir);
+  EXPECT_EQ(r.exitCode, 1) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  for (const std::string& part : std::vector<std::string>{"'" + dir / "out.stl" + "': not written",
+                                                          "single precision", "162 vertices into 1",
+                                                          "320 of the 320 triangles", "PLY, OFF or OBJ"})
+    EXPECT_NE(r.err.find(part), std::string::npos) << part << "\n" << r.err;
+  EXPECT_EQ(readFile(dir / "out.stl"), "the previous file");
+  std::vector<std::string> names = dir.entries();
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"far.off", "out.stl"}));
+  // The formats that keep double precision keep every vertex apart.
+  for (const char* ext : {".ply", ".obj", ".off"}) {
+    SCOPED_TRACE(ext);
+    const std::string out = dir / (std::string("out") + ext);
+    const RunResult ok = runSodt({"smooth", dir / "far.off", out, "--iterations", "2", "--quiet"}, dir);
+    ASSERT_EQ(ok.exitCode, 0) << ok.err;
+    sodt::MeshD m;
+    sodt::loadMesh(out, m);
+    EXPECT_EQ(m.vn, far.vertices());
+    EXPECT_EQ(distinctPositions(m), far.vertices());
+  }
+  // The same sphere near the origin is written as STL, every vertex apart.
+  writeFile(dir / "near.off", toOff(smallSphereAt(0.01, 1.0)));
+  const RunResult near = runSodt({"smooth", dir / "near.off", dir / "out.stl", "--iterations", "2", "--quiet"}, dir);
+  ASSERT_EQ(near.exitCode, 0) << near.err;
+  sodt::MeshD m;
+  sodt::loadMesh(dir / "out.stl", m);
+  EXPECT_EQ(m.vn, far.vertices());
+  EXPECT_EQ(m.fn, far.faces());
+}
+
+TEST(CliKeeps, StlOutputRefusesEvenOneMergedVertex) {
+  // Two vertices of a mesh 1e-12 apart: the same float, so STL would weld them.
+  sodt::MeshD m;
+  vcg::tri::Allocator<sodt::MeshD>::AddVertices(m, 5);
+  const double p[5][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1 + 1e-12, 0, 0}};
+  for (int i = 0; i < 5; ++i) m.vert[i].P() = vcg::Point3d(p[i][0], p[i][1], p[i][2]);
+  const int f[4][3] = {{0, 2, 1}, {0, 4, 3}, {0, 3, 2}, {1, 2, 3}};
+  vcg::tri::Allocator<sodt::MeshD>::AddFaces(m, 4);
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 3; ++j) m.face[k].V(j) = &m.vert[f[k][j]];
+  TempDir dir;
+  try {
+    sodt::saveMesh(dir / "tet.stl", m);
+    ADD_FAILURE() << "saved";
+  } catch (const sodt::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("2 vertices into 1"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(dir.entries().empty());
+  EXPECT_NO_THROW(sodt::saveMesh(dir / "tet.ply", m));
+}
+
+/// ASCII PLY of m with stale vertex normals (all +x), texture coordinates
+/// s = x, t = y (as floats), a texture file, a custom vertex property and a
+/// face colour.
+std::string toPlyWithAttributes(const SimpleMesh& m) {
+  std::string s = "ply\nformat ascii 1.0\ncomment TextureFile tex.png\nelement vertex " +
+                  std::to_string(m.vertices()) +
+                  "\nproperty double x\nproperty double y\nproperty double z\nproperty float nx\n"
+                  "property float ny\nproperty float nz\nproperty float s\nproperty float t\n"
+                  "property float myattr\nelement face " +
+                  std::to_string(m.faces()) +
+                  "\nproperty list uchar int vertex_indices\nproperty uchar red\nproperty uchar green\n"
+                  "property uchar blue\nend_header\n";
+  char buf[256];
+  for (int v = 0; v < m.vertices(); ++v) {
+    std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g 1 0 0 %.9g %.9g 42\n", m.xyz[3 * v], m.xyz[3 * v + 1],
+                  m.xyz[3 * v + 2], double(float(m.xyz[3 * v])), double(float(m.xyz[3 * v + 1])));
+    s += buf;
+  }
+  for (int f = 0; f < m.faces(); ++f)
+    s += "3 " + std::to_string(m.tri[3 * f]) + " " + std::to_string(m.tri[3 * f + 1]) + " " +
+         std::to_string(m.tri[3 * f + 2]) + " 255 0 0\n";
+  return s;
+}
+
+/// The unit area-weighted normal of every vertex of m, from its faces.
+std::vector<vcg::Point3d> faceNormalsAtVertices(const sodt::MeshD& m) {
+  std::vector<vcg::Point3d> n(m.vert.size(), vcg::Point3d(0, 0, 0));
+  for (const auto& f : m.face) {
+    const vcg::Point3d a = f.cV(0)->cP(), b = f.cV(1)->cP(), c = f.cV(2)->cP();
+    const vcg::Point3d x = (b - a) ^ (c - a);
+    for (int k = 0; k < 3; ++k) n[static_cast<std::size_t>(f.cV(k) - &m.vert[0])] += x;
+  }
+  for (auto& v : n) v.Normalize();
+  return n;
+}
+
+TEST(CliKeeps, NormalsTextureCoordinatesAndTheTextureFileAreKeptAndDropsNamed) {
+  TempDir dir;
+  const SimpleMesh sphere = jitteredSphere(3, 0.35, 7u);
+  writeFile(dir / "in.ply", toPlyWithAttributes(sphere));
+  const RunResult r = runSodt({"smooth", dir / "in.ply", dir / "out.ply", "--iterations", "3"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  // What is dropped is named, once, in one warning line; what is kept is not.
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.err.find("sodt: warning: "), 0u) << r.err;
+  EXPECT_NE(r.err.find("vertex property 'myattr'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("face properties 'red', 'green', 'blue'"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("normal"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("texture"), std::string::npos) << r.err;
+  const std::string out = readFile(dir / "out.ply");
+  EXPECT_NE(out.find("comment TextureFile tex.png\n"), std::string::npos);
+  EXPECT_NE(out.find("property double nx\n"), std::string::npos);
+  EXPECT_NE(out.find("property float texture_u\n"), std::string::npos);
+  // The file's own normals (not recomputed by a loader): unit normals of the
+  // smoothed surface, not the stale +x of the input.
+  sodt::MeshD raw;
+  int mask = 0;
+  ASSERT_EQ(vcg::tri::io::ImporterPLY<sodt::MeshD>::Open(raw, (dir / "out.ply").c_str(), mask), 0);
+  ASSERT_TRUE(mask & vcg::tri::io::Mask::IOM_VERTNORMAL);
+  ASSERT_TRUE(mask & vcg::tri::io::Mask::IOM_VERTTEXCOORD);
+  ASSERT_EQ(raw.vn, sphere.vertices());
+  const std::vector<vcg::Point3d> expected = faceNormalsAtVertices(raw);
+  int moved = 0;
+  for (int i = 0; i < raw.vn; ++i) {
+    EXPECT_GT(raw.vert[i].N() * expected[i], 1 - 1e-12) << "vertex " << i;
+    // Each vertex carries its texture coordinates.
+    EXPECT_EQ(raw.vert[i].T().U(), float(sphere.xyz[3 * i])) << "vertex " << i;
+    EXPECT_EQ(raw.vert[i].T().V(), float(sphere.xyz[3 * i + 1])) << "vertex " << i;
+    moved += raw.vert[i].P() != vcg::Point3d(sphere.xyz[3 * i], sphere.xyz[3 * i + 1], sphere.xyz[3 * i + 2]);
+  }
+  EXPECT_GT(moved, sphere.vertices() / 2);
+  ASSERT_EQ(raw.textures.size(), 1u);
+  EXPECT_EQ(raw.textures[0], "tex.png");
+
+  // OBJ keeps normals and texture coordinates (vn, vt), not the texture file.
+  const RunResult obj = runSodt({"smooth", dir / "in.ply", dir / "out.obj", "--iterations", "3"}, dir);
+  ASSERT_EQ(obj.exitCode, 0) << obj.err;
+  EXPECT_NE(obj.err.find("the texture file 'tex.png'"), std::string::npos) << obj.err;
+  EXPECT_EQ(obj.err.find("texture coordinates"), std::string::npos) << obj.err;
+  const std::string objText = readFile(dir / "out.obj");
+  EXPECT_NE(objText.find("\nvt "), std::string::npos);
+  EXPECT_NE(objText.find("\nvn "), std::string::npos);
+  // Every corner names its vertex, texture coordinates and normal by one index.
+  const std::size_t face = objText.find("\nf ");
+  ASSERT_NE(face, std::string::npos);
+  std::istringstream corners(objText.substr(face + 3, objText.find('\n', face + 1) - face - 3));
+  int cornerCount = 0;
+  for (std::string c; corners >> c; ++cornerCount) {
+    const std::string v = c.substr(0, c.find('/'));
+    EXPECT_EQ(c, v + "/" + v + "/" + v);
+  }
+  EXPECT_EQ(cornerCount, 3);
+  sodt::MeshD o;
+  sodt::LoadInfo info;
+  sodt::loadMesh(dir / "out.obj", o, &info);
+  EXPECT_TRUE(info.vertexTexCoords);
+  EXPECT_TRUE(info.vertexNormals);
+  ASSERT_EQ(o.vn, raw.vn);
+  for (int i = 0; i < o.vn; ++i) {
+    EXPECT_EQ(o.vert[i].P(), raw.vert[i].P()) << "vertex " << i;
+    EXPECT_EQ(o.vert[i].T().P(), raw.vert[i].T().P()) << "vertex " << i;
+  }
+
+  // STL keeps neither; OFF keeps the texture coordinates, not the normals.
+  const RunResult stl = runSodt({"smooth", dir / "in.ply", dir / "out.stl", "--iterations", "3"}, dir);
+  ASSERT_EQ(stl.exitCode, 0) << stl.err;
+  EXPECT_NE(stl.err.find("vertex normals"), std::string::npos) << stl.err;
+  EXPECT_NE(stl.err.find("texture coordinates"), std::string::npos) << stl.err;
+  const RunResult off = runSodt({"smooth", dir / "in.ply", dir / "out.off", "--iterations", "3"}, dir);
+  ASSERT_EQ(off.exitCode, 0) << off.err;
+  EXPECT_NE(off.err.find("vertex normals"), std::string::npos) << off.err;
+  EXPECT_EQ(off.err.find("texture coordinates"), std::string::npos) << off.err;
+  sodt::MeshD f;
+  sodt::loadMesh(dir / "out.off", f, &info);
+  EXPECT_TRUE(info.vertexTexCoords);
+  for (int i = 0; i < f.vn; ++i) EXPECT_NEAR(f.vert[i].T().U(), raw.vert[i].T().U(), 1e-5) << "vertex " << i;
+
+  // --quiet keeps stderr empty.
+  const RunResult quiet = runSodt({"smooth", dir / "in.ply", dir / "out.stl", "--iterations", "3", "--quiet"}, dir);
+  ASSERT_EQ(quiet.exitCode, 0) << quiet.err;
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+}
+
+TEST(CliKeeps, ObjTextureCoordinatesArePerVertexOrNamedAsDropped) {
+  TempDir dir;
+  const std::string quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n";
+  // Corners of a vertex share its texture coordinates: kept per vertex.
+  writeFile(dir / "shared.obj", quad + "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
+  sodt::MeshD m;
+  sodt::LoadInfo info;
+  sodt::loadMesh(dir / "shared.obj", m, &info);
+  EXPECT_TRUE(info.vertexTexCoords);
+  EXPECT_TRUE(info.dropped.empty());
+  EXPECT_EQ(m.vert[2].T().P(), vcg::Point2f(1, 1));
+  // Vertex 1 (index 0) has two: a seam, which a vertex cannot carry.
+  writeFile(dir / "seam.obj", quad + "f 1/1 2/2 3/3\nf 1/5 3/3 4/4\nmtllib a.mtl\nusemtl red\ng side\n");
+  sodt::loadMesh(dir / "seam.obj", m, &info);
+  EXPECT_FALSE(info.vertexTexCoords);
+  const RunResult r = runSodt({"smooth", dir / "seam.obj", dir / "out.ply", "--iterations", "1"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (const std::string part : {"texture coordinates per face corner (1 vertex has several)",
+                                 "OBJ statements 'mtllib', 'usemtl', 'g'"})
+    EXPECT_NE(r.err.find(part), std::string::npos) << part << "\n" << r.err;
+  EXPECT_EQ(readFile(dir / "out.ply").find("texture_u"), std::string::npos);
+}
+
+TEST(CliKeeps, TextureCoordinatesAreLeftOutWhenTheRepairAddsVertices) {
+  // The core gives the vertices a repair adds no texture coordinates: OUT
+  // has none then, and says so, rather than coordinates nobody computed.
+  TempDir dir;
+  sodt::MeshD m;
+  sodt::loadMesh(std::string(SODT_MESH_DIR) + "/plane_grid_open.ply", m);
+  for (auto& v : m.vert) v.T() = vcg::TexCoord2f(float(v.P()[0]), float(v.P()[1]));
+  sodt::SaveOptions so;
+  so.vertexTexCoords = true;
+  sodt::saveMesh(dir / "in.ply", m, so);
+  const RunResult r = runSodt({"smooth", dir / "in.ply", dir / "out.ply", "--repair", "--flips", "--report",
+                               dir / "r.json"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const double added = jsonNumber(readFile(dir / "r.json"), "vertices_added");
+  const std::string out = readFile(dir / "out.ply");
+  if (added > 0) {
+    EXPECT_NE(r.err.find("'" + dir / "out.ply" + "' has no texture coordinates: --repair added " +
+                         std::to_string(int(added)) + " vertices"), std::string::npos) << r.err;
+    EXPECT_EQ(out.find("texture_u"), std::string::npos);
+  } else {  // a repair that adds nothing keeps them
+    EXPECT_EQ(r.err.find("texture"), std::string::npos) << r.err;
+    EXPECT_NE(out.find("texture_u"), std::string::npos);
+  }
+}
+
+TEST(CliOutput, AFullDiskIsReportedWithTheSystemsReasonInEveryFormat) {
+  if (!isCharDevice("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  TempDir dir;
+  writeFile(dir / "in.off", toOff(jitteredSphere(2, 0.3, 3u)));
+  for (const char* ext : {".ply", ".off", ".obj", ".stl"}) {
+    SCOPED_TRACE(ext);
+    const std::string out = dir / (std::string("full") + ext);
+    ASSERT_EQ(::symlink("/dev/full", out.c_str()), 0);
+    const RunResult r = runSodt({"smooth", dir / "in.off", out, "--iterations", "1", "--quiet"}, dir);
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("'" + out + "': cannot write: No space left on device"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace

@@ -1755,11 +1755,20 @@ void loadMeshImpl(const std::string& path, M& m, LoadInfo* infoOut) {
 
 [[noreturn]] void throwErrno(const std::string& what) { throw IoError(what + ": " + std::strerror(errno)); }
 
-/// Copies the live elements of src into dst (positions, quality, colour,
-/// selection); vcglib 2020.09's Append does not accept a const source.
+/// A vcglib writer's failure: the system's reason when errno holds one (as
+/// the project's own writers say), else vcglib's message.
+[[noreturn]] void throwWriteError(const std::string& target, const char* format, const char* vcgMessage) {
+  if (errno != 0) throwErrno(quoted(target) + ": cannot write");
+  throw IoError(quoted(target) + ": cannot write " + format + ": " + vcgMessage);
+}
+
+/// Copies the live elements of src into dst (positions, normals, quality,
+/// colour, texture coordinates and files, selection); vcglib 2020.09's
+/// Append does not accept a const source.
 template <class M>
 void compactCopy(const M& src, M& dst, bool selectionOnly) {
   dst.Clear();
+  dst.textures = src.textures;
   std::vector<int> remap(src.vert.size(), -1);
   int nv = 0;
   for (std::size_t i = 0; i < src.vert.size(); ++i)
@@ -1770,8 +1779,10 @@ void compactCopy(const M& src, M& dst, bool selectionOnly) {
     const auto& a = src.vert[i];
     auto& b = dst.vert[static_cast<std::size_t>(remap[i])];
     b.P() = a.cP();
+    b.N() = a.cN();
     b.Q() = a.cQ();
     b.C() = a.cC();
+    b.T() = a.cT();
     b.Flags() = selectionOnly ? (a.cFlags() & M::VertexType::SELECTED) : a.cFlags();
   }
   int nf = 0;
@@ -1787,13 +1798,74 @@ void compactCopy(const M& src, M& dst, bool selectionOnly) {
   }
 }
 
+/// Throws IoError naming target when rounding the positions of m's face
+/// corners to single precision (binary STL's only kind) would make vertices
+/// that differ coincide: the STL would read back with fewer vertices and
+/// collapsed triangles (a mesh far from the origin for its size).
+/// \pre m is compact.
+template <class M>
+void checkSinglePrecision(const std::string& target, const M& m) {
+  if (sizeof(typename M::ScalarType) <= sizeof(float) || m.face.empty()) return;
+  using P3 = std::array<double, 3>;
+  const auto key = [](double x, double y, double z) { return P3{x == 0 ? 0.0 : x, y == 0 ? 0.0 : y, z == 0 ? 0.0 : z}; };
+  const auto rounded = [&](const P3& p) { return key(float(p[0]), float(p[1]), float(p[2])); };
+  std::vector<char> used(m.vert.size(), 0);
+  for (const auto& f : m.face)
+    for (int k = 0; k < 3; ++k) used[static_cast<std::size_t>(f.cV(k) - &m.vert[0])] = 1;
+  // (rounded, exact) of every distinct used position: groups of equal rounded
+  // positions with several exact ones are vertices that would merge.
+  std::vector<std::pair<P3, P3>> pts;
+  vcg::Box3d box;
+  for (std::size_t i = 0; i < m.vert.size(); ++i) {
+    if (!used[i]) continue;
+    const auto& p = m.vert[i].cP();
+    const P3 exact = key(double(p[0]), double(p[1]), double(p[2]));
+    pts.emplace_back(rounded(exact), exact);
+    box.Add(vcg::Point3d(exact[0], exact[1], exact[2]));
+  }
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  long long merged = 0, into = 0;
+  for (std::size_t a = 0, b = 0; a < pts.size(); a = b) {
+    for (b = a + 1; b < pts.size() && pts[b].first == pts[a].first;) ++b;
+    if (b - a > 1) {
+      merged += static_cast<long long>(b - a);
+      ++into;
+    }
+  }
+  if (merged == 0) return;
+  long long collapsed = 0;
+  for (const auto& f : m.face) {
+    P3 c[3];
+    for (int k = 0; k < 3; ++k) c[k] = key(double(f.cV(k)->cP()[0]), double(f.cV(k)->cP()[1]), double(f.cV(k)->cP()[2]));
+    for (int k = 0; k < 3; ++k)
+      if (c[k] != c[(k + 1) % 3] && rounded(c[k]) == rounded(c[(k + 1) % 3])) {
+        ++collapsed;
+        break;
+      }
+  }
+  char where[96];
+  std::snprintf(where, sizeof where, "%.3g across, %.3g from the origin", box.Diag(), box.Center().Norm());
+  throw IoError(quoted(target) + ": not written: STL holds coordinates in single precision, and rounding to it "
+                "would merge " + std::to_string(merged) + " vertices into " + std::to_string(into) +
+                (collapsed > 0 ? " and collapse " + std::to_string(collapsed) + " of the " +
+                                     std::to_string(m.face.size()) + " triangles"
+                               : std::string()) +
+                " (the mesh is " + where + "); write PLY, OFF or OBJ, which keep double precision, or move the "
+                "mesh near the origin");
+}
+
 /// Writes a compact mesh (no deleted element) as OBJ (ASCII: every vertex,
 /// in order, with as many digits as its scalar type needs to read back
-/// exactly, and 1-based triangles) or binary STL (single precision, as the
-/// format is: per triangle a unit normal and three corners; no vertex list,
-/// so unreferenced vertices are not kept).
+/// exactly, then with opt its texture coordinates (vt, exact floats) and
+/// normals (vn), and 1-based triangles whose corners name all three by the
+/// vertex's index) or binary STL (single precision, as the format is: per
+/// triangle a unit normal and three corners; no vertex list, so unreferenced
+/// vertices are not kept; see checkSinglePrecision).
 template <class M>
-void writePlain(const std::string& target, const std::string& file, const M& m, MeshFormat fmt) {
+void writePlain(const std::string& target, const std::string& file, const M& m, MeshFormat fmt,
+                const SaveOptions& opt) {
+  if (fmt == MeshFormat::Stl) checkSinglePrecision(target, m);
   FILE* f = std::fopen(file.c_str(), "wb");
   if (!f) throw IoError(quoted(target) + ": cannot write: " + std::strerror(errno));
   std::vector<char> buf(1 << 20);
@@ -1807,10 +1879,25 @@ void writePlain(const std::string& target, const std::string& file, const M& m, 
       ok = std::fprintf(f, "v %.*g %.*g %.*g\n", digits, double(p[0]), digits, double(p[1]), digits,
                         double(p[2])) > 0;
     }
+    const bool tex = opt.vertexTexCoords && vcg::tri::HasPerVertexTexCoord(m);
+    for (std::size_t i = 0; tex && ok && i < m.vert.size(); ++i)
+      ok = std::fprintf(f, "vt %.9g %.9g\n", double(m.vert[i].cT().U()), double(m.vert[i].cT().V())) > 0;
+    const int normalDigits = sizeof(typename M::VertexType::NormalType::ScalarType) == 4 ? 9 : 17;
+    for (std::size_t i = 0; opt.vertexNormals && ok && i < m.vert.size(); ++i) {
+      const auto& n = m.vert[i].cN();
+      ok = std::fprintf(f, "vn %.*g %.*g %.*g\n", normalDigits, double(n[0]), normalDigits, double(n[1]),
+                        normalDigits, double(n[2])) > 0;
+    }
+    // A corner: "i", "i/i" (texture coordinates), "i//i" (normals) or "i/i/i".
+    const char* corner = tex ? (opt.vertexNormals ? "%d/%d/%d" : "%d/%d") : (opt.vertexNormals ? "%d//%d" : "%d");
     for (std::size_t k = 0; ok && k < m.face.size(); ++k) {
       const auto& F = m.face[k];
-      ok = std::fprintf(f, "f %d %d %d\n", int(F.cV(0) - &m.vert[0]) + 1, int(F.cV(1) - &m.vert[0]) + 1,
-                        int(F.cV(2) - &m.vert[0]) + 1) > 0;
+      ok = std::fputc('f', f) != EOF;
+      for (int j = 0; ok && j < 3; ++j) {
+        const int v = int(F.cV(j) - &m.vert[0]) + 1;
+        ok = std::fputc(' ', f) != EOF && std::fprintf(f, corner, v, v, v) > 0;
+      }
+      ok = ok && std::fputc('\n', f) != EOF;
     }
   } else {
     char head[80] = {0};
@@ -1842,6 +1929,35 @@ void writePlain(const std::string& target, const std::string& file, const M& m, 
   if (!ok) throw IoError(quoted(target) + ": cannot write: " + std::strerror(errno));
 }
 
+/// Copies the PLY file written by vcglib at from into file (written for
+/// target) with a "TextureFile" comment for each of textures after its
+/// first three lines ("ply", "format", vcglib's comment), where vcglib puts
+/// them. \throw IoError.
+void copyWithTextureFiles(const std::string& from, const std::string& target, const std::string& file,
+                          const std::vector<std::string>& textures) {
+  std::unique_ptr<FILE, int (*)(FILE*)> in(std::fopen(from.c_str(), "rb"), std::fclose);
+  if (!in) throwErrno(quoted(target) + ": cannot read back " + quoted(from));
+  FILE* out = std::fopen(file.c_str(), "wb");
+  if (!out) throwErrno(quoted(target) + ": cannot write");
+  bool ok = true;
+  int c = 0;
+  for (int lines = 0; ok && lines < 3 && (c = std::fgetc(in.get())) != EOF;) {
+    ok = std::fputc(c, out) != EOF;
+    lines += c == '\n';
+  }
+  for (const std::string& t : textures) ok = ok && std::fprintf(out, "comment TextureFile %s\n", t.c_str()) > 0;
+  std::vector<char> buf(1 << 16);
+  for (std::size_t n; ok && (n = std::fread(buf.data(), 1, buf.size(), in.get())) > 0;)
+    ok = std::fwrite(buf.data(), 1, n, out) == n;
+  int e = errno;
+  if (std::fclose(out) != 0 && ok) {
+    ok = false;
+    e = errno;
+  }
+  errno = e;
+  if (!ok) throwErrno(quoted(target) + ": cannot write");
+}
+
 template <class M>
 void writeMesh(const std::string& target, const std::string& file, const M& src, const SaveOptions& opt) {
   const MeshFormat fmt = meshFormatFromPath(target);
@@ -1864,42 +1980,69 @@ void writeMesh(const std::string& target, const std::string& file, const M& src,
     w = &copy;
   }
   if (fmt == MeshFormat::Obj || fmt == MeshFormat::Stl) {
-    writePlain(target, file, *w, fmt);
+    writePlain(target, file, *w, fmt, opt);
     return;
   }
   namespace io = vcg::tri::io;
   int mask = io::Mask::IOM_VERTCOORD | io::Mask::IOM_FACEINDEX;
   if (opt.vertexColor) mask |= io::Mask::IOM_VERTCOLOR;
+  const bool texCoords = opt.vertexTexCoords && vcg::tri::HasPerVertexTexCoord(*w);
+  // vcglib's writers report a failed write as "Output Stream Error"; the
+  // errno of the failed write says why (a full disk, say).
+  errno = 0;
   if (fmt == MeshFormat::Off) {
+    // Not the normals: vcglib 2020.09 writes them after the colour and
+    // announces them only with a colour, which no OFF reader expects.
+    if (texCoords) mask |= io::Mask::IOM_VERTTEXCOORD;
     const int r = io::ExporterOFF<M>::Save(*w, file.c_str(), mask);
-    if (r != 0) throw IoError(quoted(target) + ": cannot write OFF: " + io::ExporterOFF<M>::ErrorMsg(r));
+    if (r != 0) throwWriteError(target, "OFF", io::ExporterOFF<M>::ErrorMsg(r));
     return;
   }
+  if (opt.vertexNormals) mask |= io::Mask::IOM_VERTNORMAL;
   if (selection) mask |= io::Mask::IOM_VERTFLAGS;
   io::PlyInfo pi;
   using VT = typename M::VertexType;
   using QualityType = typename VT::QualityType;
+  using TexScalar = typename VT::TexCoordType::ScalarType;
+  using Scalar = typename M::ScalarType;
+  VT probe;
+  // A vertex field written as a float, described by ourselves.
+  const auto floatField = [&](const char* name, const void* field, bool memFloat) {
+    vcg::ply::PropDescriptor d = vcg::ply::PropDescriptor();
+    d.elemname = "vertex";
+    d.propname = name;
+    d.stotype1 = vcg::ply::T_FLOAT;
+    d.memtype1 = memFloat ? vcg::ply::T_FLOAT : vcg::ply::T_DOUBLE;
+    d.offset1 = static_cast<std::size_t>(static_cast<const char*>(field) - reinterpret_cast<const char*>(&probe));
+    pi.VertDescriptorVec.push_back(d);
+  };
+  // vcglib 2020.09 names the quality type after the coordinate type in the
+  // header but writes QualityType in binary, and declares texture
+  // coordinates float but writes them as coordinates: describe the fields
+  // ourselves when the types differ.
   if (opt.vertexQuality) {
-    // vcglib 2020.09 names the quality type after the coordinate type in the
-    // header but writes QualityType in binary; describe the field ourselves
-    // when the two differ.
-    if (!opt.binary || sizeof(QualityType) == sizeof(typename M::ScalarType)) {
+    if (!opt.binary || sizeof(QualityType) == sizeof(Scalar))
       mask |= io::Mask::IOM_VERTQUALITY;
+    else
+      floatField("quality", &probe.Q(), sizeof(QualityType) == sizeof(float));
+  }
+  // Without the mask vcglib names no texture file; they are added after.
+  bool textureComments = false;
+  if (texCoords) {
+    if (!opt.binary || sizeof(Scalar) == sizeof(TexScalar)) {
+      mask |= io::Mask::IOM_VERTTEXCOORD;
     } else {
-      VT probe;
-      vcg::ply::PropDescriptor d = vcg::ply::PropDescriptor();
-      d.elemname = "vertex";
-      d.propname = "quality";
-      d.stotype1 = vcg::ply::T_FLOAT;
-      d.memtype1 = sizeof(QualityType) == sizeof(float) ? vcg::ply::T_FLOAT : vcg::ply::T_DOUBLE;
-      d.offset1 = static_cast<std::size_t>(reinterpret_cast<const char*>(&probe.Q()) -
-                                           reinterpret_cast<const char*>(&probe));
-      pi.VertDescriptorVec.push_back(d);
+      floatField("texture_u", &probe.T().U(), sizeof(TexScalar) == sizeof(float));
+      floatField("texture_v", &probe.T().V(), sizeof(TexScalar) == sizeof(float));
+      textureComments = !w->textures.empty();
     }
   }
   pi.mask = mask;
-  const int r = io::ExporterPLY<M>::Save(*w, file.c_str(), opt.binary, pi);
-  if (r != 0) throw IoError(quoted(target) + ": cannot write PLY: " + io::ExporterPLY<M>::ErrorMsg(r));
+  ScratchFile scratch;
+  if (textureComments) scratchStream(scratch, target);
+  const int r = io::ExporterPLY<M>::Save(*w, (textureComments ? scratch.path : file).c_str(), opt.binary, pi);
+  if (r != 0) throwWriteError(target, "PLY", io::ExporterPLY<M>::ErrorMsg(r));
+  if (textureComments) copyWithTextureFiles(scratch.path, target, file, w->textures);
 }
 
 /// What verifyWritten reads a written file into: positions, triangles, and
@@ -2108,6 +2251,30 @@ void saveMesh(const std::string& path, const MeshF& m, const SaveOptions& opt) {
   PendingFile out(path);
   saveMeshImpl(out, m, opt);
   out.commit();
+}
+
+std::vector<std::string> notKept(const std::string& path, const MeshD& m, const SaveOptions& opt) {
+  const MeshFormat fmt = meshFormatFromPath(path);
+  const bool ply = fmt == MeshFormat::Ply, off = fmt == MeshFormat::Off, stl = fmt == MeshFormat::Stl;
+  std::vector<std::string> out;
+  if (opt.vertexNormals && (off || stl)) out.push_back("vertex normals");
+  if (opt.vertexTexCoords && stl) out.push_back("vertex texture coordinates");
+  if (opt.vertexColor && !ply && !off) out.push_back("vertex colours");
+  if (opt.vertexQuality && !ply) out.push_back("vertex quality");
+  if (opt.vertexSelection && !ply) out.push_back("the vertex selection");
+  // Texture files are named only beside texture coordinates, and only in PLY.
+  for (const std::string& t : m.textures)
+    if (!ply || !opt.vertexTexCoords) out.push_back("the texture file '" + t + "'");
+  if (stl) {
+    std::vector<char> used(m.vert.size(), 0);
+    for (const auto& f : m.face)
+      if (!f.IsD())
+        for (int k = 0; k < 3; ++k) used[static_cast<std::size_t>(f.cV(k) - &m.vert[0])] = 1;
+    long long unused = 0;
+    for (std::size_t i = 0; i < m.vert.size(); ++i) unused += !m.vert[i].IsD() && !used[i];
+    if (unused > 0) out.push_back(std::to_string(unused) + " unreferenced vert" + (unused > 1 ? "ices" : "ex"));
+  }
+  return out;
 }
 
 void writeText(PendingFile& out, const std::string& text) {

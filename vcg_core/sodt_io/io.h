@@ -26,12 +26,17 @@ enum class MeshFormat { Ply, Off, Obj, Stl };
 /// \throw InvalidInput naming the path for any other extension.
 MeshFormat meshFormatFromPath(const std::string& path);
 
-/// What saveMesh writes besides positions and triangles.
+/// What saveMesh writes besides positions and triangles. A format without a
+/// place for something asked for leaves it out (notKept() names it).
 struct SaveOptions {
   bool binary = true;            ///< PLY only: binary little-endian instead of ASCII
   bool vertexQuality = false;    ///< PLY only: per-vertex "quality" (float)
-  bool vertexColor = false;      ///< per-vertex RGBA colour
+  bool vertexColor = false;      ///< PLY and OFF: per-vertex RGBA colour
   bool vertexSelection = false;  ///< PLY only: per-vertex "flags" holding only the selection bit
+  bool vertexNormals = false;    ///< PLY (nx, ny, nz) and OBJ (vn): the mesh's vertex normals
+  /// PLY (texture_u, texture_v, and the mesh's texture files as "TextureFile"
+  /// comments), OFF (ST prefix) and OBJ (vt): per-vertex texture coordinates
+  bool vertexTexCoords = false;
   bool verify = true;            ///< read the written file back and compare counts before committing
 };
 
@@ -127,10 +132,14 @@ class PendingFile {
 };
 
 /// Writes m into out.tempPath() in the format of out.target()'s extension,
-/// without committing. Deleted elements are skipped. OBJ and STL carry
-/// positions and triangles only; STL is binary, single precision, and has no
-/// vertex list (unreferenced vertices are not kept).
-/// \throw InvalidInput for an unsupported extension, IoError if writing fails.
+/// without committing. Deleted elements are skipped. Positions: binary PLY
+/// and OBJ exactly, OFF with 16 significant digits (vcglib's writer), STL in
+/// single precision (binary STL has no other) and without a vertex list
+/// (unreferenced vertices are not kept). What each format keeps of opt:
+/// see SaveOptions and notKept().
+/// \throw InvalidInput for an unsupported extension, IoError if writing fails
+///        or, for STL, if rounding to single precision would merge vertices
+///        (the message says how many).
 void saveMesh(PendingFile& out, const MeshD& m, const SaveOptions& opt = SaveOptions());
 /// Single-precision overload of saveMesh(PendingFile&, const MeshD&, const SaveOptions&).
 void saveMesh(PendingFile& out, const MeshF& m, const SaveOptions& opt = SaveOptions());
@@ -141,6 +150,13 @@ void saveMesh(PendingFile& out, const MeshF& m, const SaveOptions& opt = SaveOpt
 void saveMesh(const std::string& path, const MeshD& m, const SaveOptions& opt = SaveOptions());
 /// Single-precision overload of saveMesh(const std::string&, const MeshD&, const SaveOptions&).
 void saveMesh(const std::string& path, const MeshF& m, const SaveOptions& opt = SaveOptions());
+
+/// What a file named path (format by extension) written with opt leaves out
+/// of m because the format has no place for it, one item each (e.g. "vertex
+/// normals", "the texture file 'tex.png'", "3 unreferenced vertices"); empty
+/// when it keeps everything opt asks for. \throw InvalidInput for an
+/// unsupported extension.
+std::vector<std::string> notKept(const std::string& path, const MeshD& m, const SaveOptions& opt);
 
 /// Writes text into out.tempPath() without committing. \throw IoError.
 void writeText(PendingFile& out, const std::string& text);
