@@ -7,7 +7,7 @@ running the fuzzer does not need Python):
 
 Every seed is one configuration byte (see fuzz_mesh.cpp: bit 0 = OFF, bits 1-2
 = algorithm, bit 3 = flips, bit 4 = fold guard, bit 5 = keepBest, bit 6 = float
-mesh, bit 7 = selectedOnly) followed by a small PLY or OFF file.
+mesh, bit 7 = selectedOnly) followed by a small PLY, OFF, OBJ or STL file.
 """
 import math
 import os
@@ -151,6 +151,15 @@ def stl_ascii(verts, faces):
     return ("\n".join(lines + ["endsolid seed"]) + "\n").encode()
 
 
+BOM = b"\xef\xbb\xbf"  # a UTF-8 byte-order mark, which the text readers skip
+
+
+def far_sphere(verts, radius, centre):
+    """The sphere scaled to radius and moved to (centre, centre, centre): far
+    from the origin for its size, as in a CAD export in world coordinates."""
+    return [tuple(centre + radius * x for x in v) for v in verts]
+
+
 def seeds():
     sv, sf = subdivided_octahedron()
     yield "tetra_ascii.ply", BASIC, ply_ascii(TETRA_V, TETRA_F)
@@ -188,6 +197,11 @@ def seeds():
         b"f " + b" ".join(b"%d/%d/%d" % (i - len(QUAD_V), 1, 1) for i in f) + b"\n" for f in QUAD_F)
     yield "octa_binary.stl", STL | KEEPBEST, stl_binary(OCTA_V, OCTA_F)
     yield "tetra_ascii.stl", STL | FLOAT, stl_ascii(TETRA_V, TETRA_F)
+    yield "tetra_bom.obj", OBJ, BOM + obj(TETRA_V, TETRA_F)
+    yield "octa_bom.off", OFF | FEATURE, BOM + off(OCTA_V, OCTA_F)
+    yield "tetra_bom_ascii.ply", BASIC | FLOAT, BOM + ply_ascii(TETRA_V, TETRA_F)
+    yield "tetra_bom_upper.stl", STL, BOM + stl_ascii(TETRA_V, TETRA_F).upper()
+    yield "sphere18_far_double.ply", BASIC | FLIPS, ply_binary(far_sphere(sv, 0.01, 1e6), sf, coord="double")
     yield "points_only.off", OFF | BASIC, off(TETRA_V, [])
     yield "empty.ply", BASIC, b"ply\nformat ascii 1.0\nend_header\n"
 
