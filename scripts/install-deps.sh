@@ -27,6 +27,10 @@ PACKAGES=(
   ninja-build libglu1-mesa-dev pybind11-dev python3-dev python3-numpy python3-pytest
   # the noise benchmark (bench/noise) and its test: MeshDenoiser, the figure
   meshsdfilter-tools python3-matplotlib
+  # the real-world corpus (bench/corpus/fetch.sh): renders OpenSCAD's bundled
+  # examples to STL; the other meshes come from .deb files that fetch.sh
+  # downloads with `apt-get download` without installing them
+  openscad
 )
 
 if [ "$(id -u)" -eq 0 ] || [ "${SODT_APT_SOURCES_ONLY:-0}" = 1 ]; then
