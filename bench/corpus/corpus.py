@@ -119,7 +119,10 @@ def manifest(cache, out):
     L.append("")
     closed = sum(read_stats(cache, r["name"])["closed"] for r in rows)
     nm = sum(read_stats(cache, r["name"])["nonmanifold_edges"] > 0 for r in rows)
-    L.append("%d of %d meshes are closed; %d have non-manifold edges.\n" % (closed, len(rows), nm))
+    deg = [r["name"] for r in rows if read_stats(cache, r["name"])["repeated_index_faces"] > 0]
+    L.append("%d of %d meshes are closed; %d have non-manifold edges; %d have faces with a repeated vertex once "
+             "welded (%s: their min / max angle is 0 / 180).\n"
+             % (closed, len(rows), nm, len(deg), ", ".join(deg) or "none"))
     with open(out, "w", encoding="utf-8") as f:
         f.write("\n".join(L))
 

@@ -275,7 +275,6 @@ def stats(V, F):
         parent[find(rc)] = ra
     comps = len({find(int(v)) for v in used})
     ang = angles_deg(V, F)
-    good = ~repeated
     needle, cap = needles_caps(V, F)
     return {
         "vertices": int(len(used)),
@@ -285,8 +284,9 @@ def stats(V, F):
         "closed": bool((counts == 1).sum() == 0),
         "components": comps,
         "repeated_index_faces": int(repeated.sum()),
-        "min_angle": float(ang[good].min()) if good.any() else 0.0,
-        "max_angle": float(ang[good].max()) if good.any() else 180.0,
+        # a face with a repeated vertex (after welding) counts as 0 and 180 degrees, as in sodt
+        "min_angle": 0.0 if repeated.any() else float(ang.min()),
+        "max_angle": 180.0 if repeated.any() else float(ang.max()),
         "needles": int(needle.sum()),
         "caps": int(cap.sum()),
         "bbox_diag": diag,
