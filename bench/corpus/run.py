@@ -12,6 +12,10 @@ default), the default guard and bound, and:
   flips    --flips                      the sweeps alone (the time reference)
   repair   --flips --repair             the configuration issue 44 measures
   extra    --flips --repair EXTRA       only with --extra "EXTRA" (e.g. "--refine")
+  compare  COMPARE                      only with --compare "COMPARE", a whole option
+                                        list (e.g. "--flips --refine", without --repair)
+
+Issue 44's targets are evaluated on the repair run, or on the one --targets names.
 
 Needles and caps are counted on the output by CGAL 5.5's definitions (longest /
 shortest edge >= 4; an angle >= 160 degrees). The Hausdorff distance is the
@@ -152,7 +156,7 @@ def input_summary(results, kinds=None):
             "needles": sum(r["in"]["needles"] for r in rs), "caps": sum(r["in"]["caps"] for r in rs)}
 
 
-def markdown(results, configs, meta):
+def markdown(results, configs, meta, main="repair"):
     L = []
     n = len(results)
     L.append("# Corpus benchmark (issue 44)\n")
@@ -174,7 +178,6 @@ def markdown(results, configs, meta):
         for name, key, err in failed:
             L.append("- `%s` (%s): %s" % (name, key, err))
         L.append("")
-    main = "repair"
     s = summarize(results, main)
     L.append("## Issue 44's targets on this corpus (`%s`)\n" % " ".join(dict((k, a) for k, _, a in configs)[main]))
     L.append("Measured on all triangles (the report has no protected-angle field yet, so no angle is left out).\n")
@@ -276,13 +279,25 @@ def main(argv=None):
     ap.add_argument("--only", help="only these meshes (comma-separated names)")
     ap.add_argument("--extra", help='a third configuration: --flips --repair and these options, e.g. "--refine"')
     ap.add_argument("--extra-label", help="its name in the tables (default: the options)")
+    ap.add_argument("--compare", help='another configuration given whole, e.g. "--flips --refine"')
+    ap.add_argument("--compare-label", help="its name in the tables (default: the options)")
+    ap.add_argument("--targets", choices=("repair", "extra", "compare"), default="repair",
+                    help="the configuration whose issue-44 targets are checked (default: %(default)s)")
     ap.add_argument("--no-reference", action="store_true",
                     help="skip the --flips run (no time ratio; the tables lose that column)")
     ap.add_argument("--out", help="the Markdown results (default: bench/corpus/RESULTS.md for the whole corpus, "
                                   "WORK/RESULTS.md for --quick or --only)")
     ap.add_argument("--work", help="folder for outputs and reports (default: DIR/work)")
     ap.add_argument("--keep", action="store_true", help="keep the output meshes (default: only the reports)")
-    args = ap.parse_args(argv)
+    # `--extra --refine` : the value starts with a dash, which argparse would take for an option
+    raw = list(sys.argv[1:] if argv is None else argv)
+    fixed = []
+    while raw:
+        a = raw.pop(0)
+        if a in ("--extra", "--compare") and raw:
+            a = a + "=" + raw.pop(0)
+        fixed.append(a)
+    args = ap.parse_args(fixed)
 
     sodt = find_sodt(args.sodt)
     try:
@@ -316,6 +331,13 @@ def main(argv=None):
     if args.extra:
         extra = shlex.split(args.extra)
         configs.append(("extra", args.extra_label or "flips + repair " + args.extra, ["--flips", "--repair"] + extra))
+    if args.compare:
+        configs.append(("compare", args.compare_label or args.compare, shlex.split(args.compare)))
+    if args.targets not in [k for k, _, _ in configs]:
+        ap.error("--targets %s: that configuration is not run (give --%s)" % (args.targets, args.targets))
+    for key, _, opts in configs:
+        if "--algorithm" in opts or any(o.startswith("--algorithm=") for o in opts):
+            ap.error("the algorithm follows the mesh's kind; --extra and --compare may not set --algorithm")
 
     version = subprocess.run([sodt, "--version"], capture_output=True, text=True).stdout.strip() or "?"
     print("run.py: %s (%s), %d meshes, work folder %s" % (sodt, version, len(rows), work))
@@ -357,7 +379,7 @@ def main(argv=None):
             "subset": " (subset: %s)" % ("--quick" if args.quick else "--only") if subset else "",
             "cores": os.cpu_count() or 0, "wall": wall, "load": load_start,
             "load_end": os.getloadavg()[0]}
-    md = markdown(results, configs, meta)
+    md = markdown(results, configs, meta, args.targets)
     with open(out_md, "w", encoding="utf-8") as f:
         f.write(md + "\n")
     with open(os.path.join(work, "results.json"), "w", encoding="utf-8") as f:
