@@ -233,9 +233,9 @@ def markdown(results, configs, meta, main="repair"):
              "repair left below its angle, by reason: p pinned, b bound, n non-manifold, g budget) are those of "
              "the `%s` run; time: seconds of `flips` / `%s` and their ratio.\n" % (main, main))
     hdr = "| mesh | kind | V in | min angle: in → " + " → ".join(label for _, label, _ in configs) + \
-          " | Hausdorff % | growth % | needles / caps | left | time (s) |"
+          " | Hausdorff % | growth % | needles / caps | left | time (s) | input notes |"
     L.append(hdr)
-    L.append("|---|---|---:|---|---:|---:|---:|---|---|")
+    L.append("|---|---|---:|---|---:|---:|---:|---|---|---|")
     for r in results:
         angles = [fmt(r["in"]["min_angle"], 2)]
         for key, _, _ in configs:
@@ -255,19 +255,17 @@ def markdown(results, configs, meta, main="repair"):
                 if f and f["exit"] == 0 and f["seconds"] > 0 else fmt(m["seconds"], 2)
         else:
             hd = gr = nc = left = tm = "—"
-        L.append("| %s | %s | %d | %s | %s | %s | %s | %s | %s |" % (
-            r["name"], r["kind"], r["vertices_in"], " → ".join(angles), hd, gr, nc, left, tm))
+        notes = []
+        f = r["runs"].get("flips") or m or {}
+        if f.get("fixed_nonmanifold"):
+            notes.append("%d vertices fixed (non-manifold)" % f["fixed_nonmanifold"])
+        if f.get("reoriented_faces"):
+            notes.append("%d faces reoriented" % f["reoriented_faces"])
+        if r.get("repeated_index_faces"):
+            notes.append("%d faces with a repeated vertex" % r["repeated_index_faces"])
+        L.append("| %s | %s | %d | %s | %s | %s | %s | %s | %s | %s |" % (
+            r["name"], r["kind"], r["vertices_in"], " → ".join(angles), hd, gr, nc, left, tm, "; ".join(notes)))
     L.append("")
-    notes = []
-    for r in results:
-        for key, label, _ in configs:
-            x = r["runs"].get(key)
-            if x and x["exit"] == 0 and x.get("warnings") and key == main:
-                notes.append("- `%s`: %s" % (r["name"], "; ".join(w.replace("sodt: warning: ", "") for w in x["warnings"])))
-    if notes:
-        L.append("## Warnings of sodt (`%s` runs)\n" % main)
-        L.extend(notes)
-        L.append("")
     return "\n".join(L)
 
 
@@ -350,6 +348,7 @@ def main(argv=None):
         alg = corpus.algorithm_for(kind)
         st = corpus.read_stats(args.dir, name)
         rec = {"name": name, "kind": kind, "algorithm": alg, "file": mesh, "vertices_in": st["vertices"],
+               "repeated_index_faces": st["repeated_index_faces"],
                "faces_in": st["faces"], "in": {"min_angle": st["min_angle"], "needles": st["needles"],
                                                "caps": st["caps"]}, "runs": {}}
         for key, _, opts in configs:
