@@ -72,7 +72,7 @@ check "ply faces" 4 "$(field faces <<<"$("$PY" "$C/meshtool.py" stats "$T/tet.pl
 
 # Needles and caps around the thresholds: edges 1 and 4.1 (a needle), 1.2 and 3.9 (not); an angle of 170 degrees (a cap), of 150 (not); a zero-length
 # edge (a needle, not a cap).
-"$PY" - "$C" <<'EOF'
+"$PY" -B - "$C" <<'EOF'
 import math, sys
 import numpy as np
 sys.path.insert(0, sys.argv[1])
