@@ -205,7 +205,7 @@ if [ -n "$ONLY" ] || [ "$QUICK" = 1 ]; then
   [ -f "$DIR/index.tsv" ] && awk -F'\t' 'NR==FNR { have[$1]=1; next } !($1 in have)' "$TMP/index.tsv" "$DIR/index.tsv" >> "$TMP/index.tsv"
 fi
 sort -o "$DIR/index.tsv" "$TMP/index.tsv"
-log "ready: ${#ROWS[@]} meshes listed in $DIR/index.tsv"
+log "ready: ${#ROWS[@]} meshes checked; $DIR/index.tsv lists $(wc -l < "$DIR/index.tsv")"
 if [ "$MANIFEST" = 1 ]; then
   "$PY" "$HERE/corpus.py" manifest --dir "$DIR" --out "$HERE/MANIFEST.md"
   log "wrote $HERE/MANIFEST.md"
