@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <random>
 #include <string>
@@ -645,10 +646,84 @@ int generate(const std::string& outDir) {
   return status;
 }
 
+/// The meshes of the high-valence guards (bench/high_valence.sh, the ctest
+/// label "valence"), written as OFF text: "fan", a closed double fan (apexes
+/// at z = +-0.3 over a unit rim of n vertices: two vertices of valence n and
+/// 2n needle faces), or "polygon", one n-gon that readers fan-triangulate from
+/// its first vertex. Every rim vertex carries a random 3-D wobble of up to a
+/// sixth of the rim spacing in x, y and z (seeded), so nothing is exactly
+/// symmetric or flat. "torus" is their yardstick: a regular closed torus of
+/// 100 x n/100 vertices (radii 1 and 0.3), 2n faces like the fan of rim n.
+/// The torus of writeValenceMesh into f.
+void writeTorus(FILE* f, long n) {
+  const long rings = 100, segments = n / rings;
+  std::fprintf(f, "OFF\n%ld %ld 0\n", rings * segments, 2 * rings * segments);
+  for (long i = 0; i < segments; ++i)
+    for (long j = 0; j < rings; ++j) {
+      const double u = 2 * sodt::kPi * double(i) / double(segments), v = 2 * sodt::kPi * double(j) / double(rings);
+      const double r = 1 + 0.3 * std::cos(v);
+      std::fprintf(f, "%.17g %.17g %.17g\n", r * std::cos(u), r * std::sin(u), 0.3 * std::sin(v));
+    }
+  for (long i = 0; i < segments; ++i)
+    for (long j = 0; j < rings; ++j) {
+      const long a = i * rings + j, b = ((i + 1) % segments) * rings + j;
+      const long c = ((i + 1) % segments) * rings + (j + 1) % rings, d = i * rings + (j + 1) % rings;
+      std::fprintf(f, "3 %ld %ld %ld\n3 %ld %ld %ld\n", a, b, c, a, c, d);
+    }
+}
+
+/// The double fan (fan) or the n-gon of writeValenceMesh into f.
+void writeFanOrPolygon(FILE* f, bool fan, long n) {
+  const double h = 2 * sodt::kPi / double(n), wobble = h / 6;
+  Rng rng(7);
+  std::fprintf(f, "OFF\n%ld %ld 0\n", fan ? n + 2 : n, fan ? 2 * n : 1L);
+  if (fan) std::fprintf(f, "0 0 0.3\n0 0 -0.3\n");
+  for (long k = 0; k < n; ++k) {
+    const double a = double(k) * h;
+    std::fprintf(f, "%.17g %.17g %.17g\n", std::cos(a) + rng.uniform(-wobble, wobble),
+                 std::sin(a) + rng.uniform(-wobble, wobble), rng.uniform(-wobble, wobble));
+  }
+  if (fan) {
+    for (long k = 0; k < n; ++k) std::fprintf(f, "3 0 %ld %ld\n", 2 + k, 2 + (k + 1) % n);
+    for (long k = 0; k < n; ++k) std::fprintf(f, "3 1 %ld %ld\n", 2 + (k + 1) % n, 2 + k);
+  } else {
+    std::fprintf(f, "%ld", n);
+    for (long k = 0; k < n; ++k) std::fprintf(f, " %ld", k);
+    std::fprintf(f, "\n");
+  }
+}
+
+int writeValenceMesh(const std::string& kind, long n, const std::string& path) {
+  if ((kind != "fan" && kind != "polygon" && kind != "torus") || n < 3 || n > 50000000 ||
+      (kind == "torus" && n < 300)) {
+    std::fprintf(stderr, "error: --valence needs fan|polygon|torus and 3 <= N <= 50000000 (300 for a torus)\n");
+    return 2;
+  }
+  FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) {
+    std::fprintf(stderr, "error: cannot write %s\n", path.c_str());
+    return 1;
+  }
+  if (kind == "torus")
+    writeTorus(f, n);
+  else
+    writeFanOrPolygon(f, kind == "fan", n);
+  const bool ok = std::ferror(f) == 0;
+  if (std::fclose(f) != 0 || !ok) {
+    std::fprintf(stderr, "error: writing %s failed\n", path.c_str());
+    return 1;
+  }
+  return 0;
+}
+
 void usage() {
   std::fprintf(stderr,
                "usage: sodt_make_meshes OUTDIR          write the project's test meshes into OUTDIR\n"
-               "       sodt_make_meshes --stats FILE... print the report of .ply/.off files\n");
+               "       sodt_make_meshes --stats FILE... print the report of .ply/.off files\n"
+               "       sodt_make_meshes --valence fan|polygon N OUT.off\n"
+               "       sodt_make_meshes --valence torus N OUT.off\n"
+               "                                        a closed double fan over a rim of N vertices, an N-gon,\n"
+               "                                        or a 100 x N/100 torus with as many faces as the fan\n");
 }
 
 }  // namespace
@@ -660,6 +735,13 @@ int main(int argc, char** argv) {
   }
   const std::string first = argv[1];
   if (first == "--stats") return printStats(argc, argv);
+  if (first == "--valence") {
+    if (argc != 5) {
+      usage();
+      return 2;
+    }
+    return writeValenceMesh(argv[2], std::atol(argv[3]), argv[4]);
+  }
   if (first == "-h" || first == "--help") {
     usage();
     return 0;
