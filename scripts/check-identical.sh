@@ -11,18 +11,22 @@
 #   scripts/check-identical.sh --base REV [--sodt BIN] [--shared DIR]
 #       builds REV's `sodt` in a temporary worktree, digests both and
 #       compares; exit status 0 when every digest is the same, 1 otherwise
+#   scripts/check-identical.sh --base-sodt BASEBIN [--sodt BIN] [--shared DIR]
+#       the same against an already built `sodt`
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 sodt="$root/build/cli/sodt"
 shared="$root/../shared/meshes"
 base=""
+base_sodt=""
 usage() { sed -n '2,/^set -euo/{/^#/s/^# \{0,1\}//p}' "$0" | sed 1d; }
 while [ $# -gt 0 ]; do
   case "$1" in
     --sodt) sodt="$2"; shift 2 ;;
     --shared) shared="$2"; shift 2 ;;
     --base) base="$2"; shift 2 ;;
+    --base-sodt) base_sodt="$2"; shift 2 ;;
     -h|--help) usage; exit 0 ;;
     *) echo "check-identical: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -67,6 +71,10 @@ digests() {  # $1 = sodt binary; prints "run file digest" lines
     "denoise|--algorithm denoise"
     "denoise_flips|--algorithm denoise --flips --max-normal-step 0.1"
     "laplacian|--algorithm laplacian --iterations 5"
+    "filtered|--algorithm filtered"
+    "repair|--flips --repair"
+    "feature_repair|--algorithm feature --flips --repair"
+    "slide|--slide-boundary"
   )
   local m name cfg opts out
   for m in "${meshes[@]}"; do
@@ -96,6 +104,24 @@ digests() {  # $1 = sodt binary; prints "run file digest" lines
   done
 }
 
+compare() {  # $1 = base binary, $2 = what to call it
+  digests "$1" > "$tmp/base.txt"
+  digests "$sodt" > "$tmp/new.txt"
+  if diff "$tmp/base.txt" "$tmp/new.txt" > "$tmp/diff.txt"; then
+    echo "check-identical: $(wc -l < "$tmp/new.txt") digests, all identical to $2"
+  else
+    echo "check-identical: outputs differ from $2:" >&2
+    cat "$tmp/diff.txt" >&2
+    exit 1
+  fi
+}
+
+if [ -n "$base_sodt" ]; then
+  tmp="$(mktemp -d)"
+  trap 'rm -rf "$tmp"' EXIT
+  compare "$base_sodt" "$base_sodt"
+  exit 0
+fi
 if [ -z "$base" ]; then
   digests "$sodt"
   exit 0
@@ -110,12 +136,4 @@ cmake -S "$tmp/src" -B "$tmp/build" -DCMAKE_BUILD_TYPE=Release -DSODT_BUILD_TEST
   -DSODT_BUILD_PLUGIN=OFF -DSODT_BUILD_BENCH=OFF -DSODT_BUILD_TOOLS=OFF \
   -DMESHLAB_SOURCE_DIR="$root/.deps/meshlab-src" -DSODT_MESHLAB2025_DIR= > "$tmp/cmake.log"
 cmake --build "$tmp/build" --target sodt -j "$(nproc)" > "$tmp/build.log"
-digests "$tmp/build/cli/sodt" > "$tmp/base.txt"
-digests "$sodt" > "$tmp/new.txt"
-if diff "$tmp/base.txt" "$tmp/new.txt" > "$tmp/diff.txt"; then
-  echo "check-identical: $(wc -l < "$tmp/new.txt") digests, all identical to $base"
-else
-  echo "check-identical: outputs differ from $base:" >&2
-  cat "$tmp/diff.txt" >&2
-  exit 1
-fi
+compare "$tmp/build/cli/sodt" "$base"
