@@ -1,41 +1,55 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Time and peak memory of `sodt smooth` (20 default sweeps, the full report)
-# on meshes with one very high-valence vertex, where a cost that grows with
-# the square of a star's size shows at once:
-#   - closed double fans: two apexes over a rim of N vertices (valence N,
-#     2N needle faces), N = 10k, 20k, 40k, 100k;
-#   - a planar 100000-gon in an OFF file, which the reader fan-triangulates
-#     from its first vertex (99998 needles, every vertex on the boundary).
-# The target is under 10 s and 1 GB for the 100k fan and the 100000-gon.
+# Time and peak memory of every command and algorithm on meshes with one
+# very high-valence vertex, where a cost that grows with the square of a
+# star's size shows at once, against a regular mesh with as many faces:
+#   - a closed double fan: two apexes over a rim of N vertices (valence N,
+#     2N needle faces), every rim vertex with a random 3-D wobble of up to a
+#     sixth of the rim spacing;
+#   - an N-gon in an OFF file, which the reader fan-triangulates from its
+#     first vertex (N - 2 needles, every vertex on the border), wobbled alike;
+#   - the yardstick: a regular closed torus of 100 x N/100 vertices, 2N faces.
+# The meshes come from `sodt_make_meshes --valence`. Each command runs with
+# its defaults (20 sweeps, the full report) on the machine's cores; the
+# plugin runs inside PyMeshLab when a build has it. The target: every run on
+# the fan and the N-gon under 30 s and 1 GB at N = 100000, and at most 3
+# times the torus's time.
 #
-# Usage: bench/high_valence.sh [--build DIR] [--work DIR] [--keep]
-#   --build DIR   build tree with cli/sodt (default: build/ next to this
-#                 folder; built there first if missing)
+# Usage: bench/high_valence.sh [--build DIR] [--n N] [--work DIR] [--keep] [--out FILE]
+#   --build DIR   build tree with cli/sodt and tools/sodt_make_meshes (default:
+#                 build/ next to this folder; built there first if missing);
+#                 its meshlab-2025.07-pymeshlab/ plugin runs the PyMeshLab row
+#   --n N         rim size (default 100000)
 #   --work DIR    where the meshes and outputs go (default: a new temporary
 #                 directory, removed at the end unless --keep)
-# Prints a Markdown table: mesh, vertices, faces, wall-clock seconds, the
-# report's smoothing seconds, peak resident memory.
+#   --out FILE    also write the table (Markdown) to FILE
+# Prints a Markdown table: per command, wall-clock seconds and peak resident
+# memory on each mesh, and the fan's and the N-gon's time over the torus's.
 set -u
 
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 BUILD="$HERE/../build"
 WORK=""
 KEEP=0
+N=100000
+OUT=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) BUILD="$2"; shift 2 ;;
+    --n) N="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
     --keep) KEEP=1; shift ;;
-    -h|--help) sed -n '3,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --out) OUT="$2"; shift 2 ;;
+    -h|--help) sed -n '3,/^set -u/{/^#/s/^# \{0,1\}//p}' "$0"; exit 0 ;;
     *) echo "unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
 
 die() { echo "error: $*" >&2; exit 1; }
 SODT="$BUILD/cli/sodt"
-if [ ! -x "$SODT" ]; then
-  cmake --build "$BUILD" -j2 --target sodt >/dev/null \
+MAKE="$BUILD/tools/sodt_make_meshes"
+if [ ! -x "$SODT" ] || [ ! -x "$MAKE" ]; then
+  cmake --build "$BUILD" -j2 --target sodt sodt_make_meshes >/dev/null \
     || die "build failed (configure first: cmake -S . -B build -DCMAKE_BUILD_TYPE=Release)"
 fi
 /usr/bin/time -v true >/dev/null 2>&1 || die "needs GNU time at /usr/bin/time (Debian: apt-get install time)"
@@ -45,48 +59,71 @@ if [ -z "$WORK" ]; then
 else
   mkdir -p "$WORK" || die "cannot create $WORK"
 fi
+PLUGIN="$BUILD/meshlab-2025.07-pymeshlab/filter_sodt/libfilter_sodt.so"
+PYML="$("$HERE/../scripts/build-meshlab-2025.sh" --print-dir 2>/dev/null)/pymeshlab"
+PYTHON=/usr/bin/python3
 
-# make_mesh KIND N OUT: KIND fan (closed double fan, apexes at z = +-0.3 over
-# a unit rim) or polygon (one N-gon). The rim is regular, with a small
-# deterministic wobble (a fifth of the rim spacing) so that nothing is exactly
-# symmetric.
-make_mesh() {
-  awk -v kind="$1" -v n="$2" 'BEGIN {
-    pi = atan2(0, -1); h = 2 * pi / n
-    if (kind == "fan") printf "OFF\n%d %d 0\n0 0 0.3\n0 0 -0.3\n", n + 2, 2 * n
-    else printf "OFF\n%d 1 0\n", n
-    for (k = 0; k < n; ++k) {
-      a = k * h; r = 1 + 0.2 * h * sin(12.9898 * k); z = 0.2 * h * sin(78.233 * k)
-      printf "%.17g %.17g %.17g\n", r * cos(a), r * sin(a), z
-    }
-    if (kind == "fan") {
-      for (k = 0; k < n; ++k) printf "3 0 %d %d\n", 2 + k, 2 + (k + 1) % n
-      for (k = 0; k < n; ++k) printf "3 1 %d %d\n", 2 + (k + 1) % n, 2 + k
-    } else {
-      printf "%d", n
-      for (k = 0; k < n; ++k) printf " %d", k
-      printf "\n"
-    }
-  }' >"$3"
-}
+# The rows: a label and the command's arguments after the input (OUT is the
+# output file, absent for stats); "pymeshlab" runs the plugin instead.
+ROWS=(
+  "smooth (basic)|smooth OUT"
+  "smooth --algorithm feature|smooth OUT --algorithm feature"
+  "smooth --algorithm denoise|smooth OUT --algorithm denoise"
+  "smooth --algorithm filtered|smooth OUT --algorithm filtered"
+  "smooth --flips|smooth OUT --flips"
+  "smooth --repair|smooth OUT --repair"
+  "smooth --algorithm feature --flips --repair|smooth OUT --algorithm feature --flips --repair"
+  "smooth --slide-boundary|smooth OUT --slide-boundary"
+  "classify|classify OUT"
+  "stats|stats"
+  "PyMeshLab plugin (basic)|pymeshlab"
+)
 
-echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
-echo
-echo "| mesh | vertices | faces | wall s | smoothing s | peak MB |"
-echo "|---|---:|---:|---:|---:|---:|"
-for c in fan:10000 fan:20000 fan:40000 fan:100000 polygon:100000; do
-  kind="${c%%:*}"
-  n="${c##*:}"
-  in="$WORK/${kind}_$n.off"
-  make_mesh "$kind" "$n" "$in"
-  /usr/bin/time -v -o "$WORK/time" "$SODT" smooth "$in" "$WORK/out.ply" >"$WORK/report" 2>&1 \
-    || die "sodt smooth $in failed: $(tail -n 3 "$WORK/report")"
+# run MESH ARGS: prints "wall peakMB" of one run, or "failed"/"skipped".
+run() {
+  local mesh="$1" cmd="$2" args
+  if [ "$cmd" = pymeshlab ]; then
+    [ -f "$PLUGIN" ] && [ -d "$PYML" ] || { echo "skipped"; return; }
+    /usr/bin/time -v -o "$WORK/time" "$PYTHON" "$HERE/valence_pymeshlab.py" "$PYML" "$PLUGIN" "$mesh" \
+      >"$WORK/log" 2>&1 || { echo "failed"; return; }
+  else
+    args="${cmd/OUT/$WORK/out.ply}"
+    # shellcheck disable=SC2086
+    set -- $args
+    local sub="$1"
+    shift
+    /usr/bin/time -v -o "$WORK/time" "$SODT" "$sub" "$mesh" "$@" >"$WORK/log" 2>&1 || { echo "failed"; return; }
+  fi
+  local wall peak
   wall="$(sed -nE 's/^\s*Elapsed \(wall clock\) time.*: (.*)/\1/p' "$WORK/time" |
     awk -F: '{ s = 0; for (i = 1; i <= NF; ++i) s = s * 60 + $i; printf "%.2f", s }')"
   peak="$(sed -nE 's/^\s*Maximum resident set size \(kbytes\): ([0-9]+)/\1/p' "$WORK/time")"
-  mesh="$(sed -nE 's/^\s*mesh\s+([0-9]+) vertices, ([0-9]+) triangles.*/\1 \2/p' "$WORK/report")"
-  smooth="$(sed -nE 's/^\s*smoothing\s+([0-9.]+) s.*/\1/p' "$WORK/report")"
-  label="double fan, rim $n"
-  [ "$kind" = polygon ] && label="$n-gon (OFF)"
-  echo "| $label | ${mesh% *} | ${mesh#* } | $wall | $smooth | $(awk -v k="$peak" 'BEGIN { printf "%.0f", k / 1024 }') |"
+  echo "$wall $(awk -v k="$peak" 'BEGIN { printf "%.0f", k / 1024 }')"
+}
+
+for kind in torus fan polygon; do
+  "$MAKE" --valence "$kind" "$N" "$WORK/$kind.off" || die "sodt_make_meshes --valence $kind $N failed"
 done
+
+table() {
+  echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg); N = $N"
+  echo
+  echo "| command | torus s | torus MB | fan s | fan MB | fan / torus | $N-gon s | $N-gon MB | $N-gon / torus |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+  local row label cmd t f p
+  for row in "${ROWS[@]}"; do
+    label="${row%%|*}"
+    cmd="${row#*|}"
+    t="$(run "$WORK/torus.off" "$cmd")"
+    f="$(run "$WORK/fan.off" "$cmd")"
+    p="$(run "$WORK/polygon.off" "$cmd")"
+    ratio() { awk -v a="${1% *}" -v b="${2% *}" 'BEGIN { if (b + 0 > 0 && a ~ /^[0-9.]+$/) printf "%.1f", a / b; else printf "-" }'; }
+    cell() { case "$1" in failed|skipped) echo "$1 | -" ;; *) echo "${1% *} | ${1#* }" ;; esac; }
+    echo "| $label | $(cell "$t") | $(cell "$f") | $(ratio "$f" "$t") | $(cell "$p") | $(ratio "$p" "$t") |"
+  done
+}
+if [ -n "$OUT" ]; then
+  table | tee "$OUT"
+else
+  table
+fi
