@@ -26,6 +26,13 @@ constexpr double kLittleNoiseEdges = 0.05;
 
 /// At most this many vertices are sampled (evenly over the vertex order).
 constexpr int kNoiseSamples = 20000;
+/// A vertex whose two-ring spans more faces than this (its own and its
+/// neighbours' faces, counted with repeats) is not sampled: each sample
+/// then costs a bounded amount, so a vertex of valence n, which lies in the
+/// two-ring of each of its n neighbours, costs O(n) and not O(n^2 log n).
+/// On ordinary meshes a two-ring spans 30-60 faces and never reaches it; a
+/// neighbour of a 360-valence cylinder cap centre is still sampled.
+constexpr int kNoiseMaxTwoRingFaces = 1024;
 
 struct NoiseEstimate {
   double sigmaEdges = std::numeric_limits<double>::quiet_NaN();  ///< NaN: too few usable vertices
@@ -36,8 +43,9 @@ struct NoiseEstimate {
 /// vertex i given by pos(i) (a Vec3). Only vertices with a closed manifold
 /// fan (each neighbour in exactly two of its faces) are sampled, and only
 /// their two-rings are gathered, so a large mesh costs one pass over its
-/// faces. Vertices with fewer than 9 two-ring neighbours, or whose fit is
-/// degenerate, are passed over; fewer than 10 usable vertices give NaN.
+/// faces. Vertices with fewer than 9 two-ring neighbours, with a two-ring
+/// larger than kNoiseMaxTwoRingFaces, or whose fit is degenerate, are
+/// passed over; fewer than 10 usable vertices give NaN.
 template <class PosFn>
 NoiseEstimate estimateNoise(const FaceList& faces, int nv, PosFn pos) {
   NoiseEstimate out;
@@ -79,7 +87,10 @@ NoiseEstimate estimateNoise(const FaceList& faces, int nv, PosFn pos) {
   for (int s = 0; s < sampled; ++s) {
     const int i = static_cast<int>((static_cast<long long>(s) * nv) / sampled);
     ring1.clear();
-    if (vb[i] == vb[i + 1] || !ring(i, ring1)) continue;
+    if (vb[i] == vb[i + 1] || vb[i + 1] - vb[i] > kNoiseMaxTwoRingFaces || !ring(i, ring1)) continue;
+    long long spanned = vb[i + 1] - vb[i];
+    for (int j : ring1) spanned += vb[j + 1] - vb[j];
+    if (spanned > kNoiseMaxTwoRingFaces) continue;
     ring2 = ring1;
     for (int j : ring1) ring(j, ring2);
     std::sort(ring2.begin(), ring2.end());
