@@ -62,45 +62,165 @@ struct FaceFrame {
   }
 };
 
+/// A vertex with more faces than this lends a face's patch only the
+/// kFilterWindow faces of its star around that face (as the deviation
+/// guard's windows do, deviation.h), so that a patch never grows with the
+/// valence: a vertex of valence n would otherwise put n faces in each of
+/// its n faces' patches, n^2 in all, and the filter's patch measures are
+/// quadratic in the patch size. The stars of the bundled and shared meshes
+/// have at most 22 faces; the window changes nothing there.
+constexpr int kFilterWindow = 24;
+
 /// The faces around each face: every face sharing a vertex with it (itself
-/// included), and its up to three neighbours across an edge.
+/// included), from a vertex with more than kFilterWindow faces only the
+/// window of them around the face, and its up to three neighbours across
+/// an edge.
 struct FaceNeighbourhoods {
   std::vector<int> begin, idx;           ///< vertex-sharing neighbours of face f: idx[begin[f] .. begin[f+1])
-  std::vector<std::array<int, 3>> edge;  ///< the face across each edge, or -1
+  std::vector<std::array<int, 3>> edge;  ///< the face across each edge (the first by index when several), or -1
 
   void build(const FaceList& faces, int nv) {
     const int nf = static_cast<int>(faces.tri.size());
-    const IncidentFaces inc(faces, nv);  // faces of each vertex
-    const std::vector<int>& vb = inc.begin;
-    const std::vector<int>& vf = inc.face;
+    IncidentFaces inc(faces, nv);  // faces of each vertex; large stars reordered around the vertex
+    std::vector<int> at(3 * static_cast<std::size_t>(nf), -1), chainBegin, chainEnd;
+    orderLargeStars(faces, nv, inc, at, chainBegin, chainEnd);
     begin.assign(nf + 1, 0);
     idx.clear();
-    edge.assign(nf, {-1, -1, -1});
     std::vector<int> around;
     for (int f = 0; f < nf; ++f) {
       begin[f] = static_cast<int>(idx.size());
       if (!faces.live[f]) continue;
       around.clear();
-      for (int v : faces.tri[f]) around.insert(around.end(), vf.begin() + vb[v], vf.begin() + vb[v + 1]);
+      for (int j = 0; j < 3; ++j) {
+        const int v = faces.tri[f][j];
+        int b = inc.begin[v], e = inc.begin[v + 1];
+        const int k = at[3 * static_cast<std::size_t>(f) + j];
+        if (e - b > kFilterWindow && k >= 0) {
+          window(k, chainBegin[k], chainEnd[k], inc.face, around);
+          continue;
+        }
+        around.insert(around.end(), inc.face.begin() + b, inc.face.begin() + e);
+      }
       std::sort(around.begin(), around.end());
       around.erase(std::unique(around.begin(), around.end()), around.end());
       idx.insert(idx.end(), around.begin(), around.end());
-      // Neighbours across edge (t[k], t[k+1]): faces with both vertices.
-      const std::array<int, 3>& t = faces.tri[f];
-      for (int k = 0; k < 3; ++k) {
-        const int a = t[k], b = t[(k + 1) % 3];
-        for (int g : around) {
-          if (g == f) continue;
-          const std::array<int, 3>& u = faces.tri[g];
-          const bool hasA = u[0] == a || u[1] == a || u[2] == a, hasB = u[0] == b || u[1] == b || u[2] == b;
-          if (hasA && hasB) {
-            edge[f][k] = g;
-            break;
-          }
-        }
-      }
     }
     begin[nf] = static_cast<int>(idx.size());
+    acrossEdges(faces);
+  }
+
+ private:
+  /// The kFilterWindow faces of a chain [cb, ce) of a star's faces around
+  /// position k, wrapping round a closed chain (cb < 0 marks one: -cb - 1
+  /// is its start), shifted to fit in an open one.
+  static void window(int k, int cb, int ce, const std::vector<int>& face, std::vector<int>& out) {
+    const int w = kFilterWindow;
+    if (cb < 0) {
+      cb = -cb - 1;
+      const int len = ce - cb;
+      for (int d = -w / 2; d < w - w / 2; ++d) out.push_back(face[cb + ((k - cb + d) % len + len) % len]);
+      return;
+    }
+    const int first = std::max(cb, std::min(k - w / 2, ce - w));
+    for (int q = first; q < std::min(first + w, ce); ++q) out.push_back(face[q]);
+  }
+
+  /// Reorders the faces of every star larger than kFilterWindow into
+  /// chains around its vertex (face (v, x, y) is followed by the face
+  /// (v, y, z)); at[3 f + j] gets the position of face f in the star of its
+  /// corner j, chainBegin and chainEnd (indexed by position) the chain's
+  /// range, chainBegin as -start - 1 for a closed chain. Faces that do
+  /// not chain (non-manifold or inconsistently wound stars) form chains of
+  /// their own.
+  static void orderLargeStars(const FaceList& faces, int nv, IncidentFaces& inc, std::vector<int>& at,
+                              std::vector<int>& chainBegin, std::vector<int>& chainEnd) {
+    chainBegin.assign(inc.face.size(), 0);
+    chainEnd.assign(inc.face.size(), 0);
+    std::vector<std::pair<int, int>> byFirst;  // (x, local face) of the faces (v, x, y)
+    std::vector<int> ordered, second;
+    std::vector<char> used;
+    for (int v = 0; v < nv; ++v) {
+      const int b = inc.begin[v], n = inc.begin[v + 1] - b;
+      if (n <= kFilterWindow) continue;
+      byFirst.clear();
+      second.assign(n, -1);
+      for (int l = 0; l < n; ++l) {
+        const std::array<int, 3>& t = faces.tri[inc.face[b + l]];
+        const int j = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+        byFirst.push_back({t[(j + 1) % 3], l});
+        second[l] = t[(j + 2) % 3];
+      }
+      std::sort(byFirst.begin(), byFirst.end());
+      const auto successor = [&](int l) {  // the one face (v, second[l], z), or -1
+        const auto r = std::equal_range(byFirst.begin(), byFirst.end(), std::make_pair(second[l], -1),
+                                        [](const std::pair<int, int>& p, const std::pair<int, int>& q) {
+                                          return p.first < q.first;
+                                        });
+        return r.second - r.first == 1 ? r.first->second : -1;
+      };
+      std::vector<int> next(n), prevCount(n, 0);
+      for (int l = 0; l < n; ++l) {
+        next[l] = successor(l);
+        if (next[l] >= 0) ++prevCount[next[l]];
+      }
+      ordered.clear();
+      used.assign(n, 0);
+      const auto chainFrom = [&](int l, bool closedIfBack) {
+        const int start = static_cast<int>(ordered.size());
+        bool closed = false;
+        for (int cur = l;;) {
+          used[cur] = 1;
+          ordered.push_back(cur);
+          const int nx = next[cur];
+          if (nx < 0 || used[nx] || prevCount[nx] != 1) {
+            closed = closedIfBack && nx == l;
+            break;
+          }
+          cur = nx;
+        }
+        for (int q = start; q < static_cast<int>(ordered.size()); ++q) {
+          chainBegin[b + q] = closed ? -(b + start) - 1 : b + start;
+          chainEnd[b + q] = b + static_cast<int>(ordered.size());
+        }
+      };
+      for (int l = 0; l < n; ++l)  // open chains from their first face
+        if (!used[l] && prevCount[l] != 1) chainFrom(l, false);
+      for (int l = 0; l < n; ++l)  // the rest are cycles
+        if (!used[l]) chainFrom(l, true);
+      std::vector<int> faceOf(n);
+      for (int q = 0; q < n; ++q) faceOf[q] = inc.face[b + ordered[q]];
+      for (int q = 0; q < n; ++q) {
+        const int f = faceOf[q];
+        inc.face[b + q] = f;
+        for (int j = 0; j < 3; ++j)
+          if (faces.tri[f][j] == v) at[3 * static_cast<std::size_t>(f) + j] = b + q;
+      }
+    }
+  }
+
+  /// edge[f][k]: the face with the smallest index other than f with both
+  /// ends of f's edge (t[k], t[k+1]), from one sort of all edges.
+  void acrossEdges(const FaceList& faces) {
+    const int nf = static_cast<int>(faces.tri.size());
+    edge.assign(nf, {-1, -1, -1});
+    std::vector<std::array<int, 4>> e;  // (low, high, face, k)
+    for (int f = 0; f < nf; ++f) {
+      if (!faces.live[f]) continue;
+      const std::array<int, 3>& t = faces.tri[f];
+      for (int k = 0; k < 3; ++k)
+        e.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]), f, k});
+    }
+    std::sort(e.begin(), e.end());
+    for (std::size_t r = 0; r < e.size();) {
+      std::size_t s = r + 1;
+      while (s < e.size() && e[s][0] == e[r][0] && e[s][1] == e[r][1]) ++s;
+      for (std::size_t q = r; q < s; ++q) {
+        const int f = e[q][2];
+        for (std::size_t u = r; u < s && edge[f][e[q][3]] < 0; ++u)
+          if (e[u][2] != f) edge[f][e[q][3]] = e[u][2];
+      }
+      r = s;
+    }
   }
 };
 
