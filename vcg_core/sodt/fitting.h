@@ -76,7 +76,12 @@ inline double normalAgreementWeight(double r) {
 /// Weighted least-squares plane of Eq. 12-13 through vertex i and its ring:
 /// weights 1 for i and L(n_i . n_k) for neighbour k; the point is the weighted
 /// centroid and the normal the eigenvector of the smallest eigenvalue of the
-/// weighted scatter matrix, oriented like n_i.
+/// weighted scatter matrix, oriented like n_i. It needs three neighbours
+/// with a weight: the vertex and two neighbours span the plane of one
+/// triangle, a plane of no least squares, and one that stands upright on
+/// the surface where the two lie on a line with the vertex (a rim of
+/// needles, or a crease, whose sides' normals disagree with the vertex's).
+/// Without a plane the vertex keeps its Algorithm 2 move.
 inline FittedFrame fitPlane(int i, const RingTopology& topo, const std::vector<Vec3>& pos,
                             const std::vector<Vec3>& nrm) {
   FittedFrame f;
@@ -91,7 +96,7 @@ inline FittedFrame fitPlane(int i, const RingTopology& topo, const std::vector<V
     const double w = nrm[j].SquaredNorm() > 0 ? normalAgreementWeight(n0 * nrm[j]) : 0.0;
     if (w > 0) pts.emplace_back(pos[j], w);
   }
-  if (pts.size() < 3) return f;
+  if (pts.size() < 4) return f;
   return principalFit(pts, 0, n0);
 }
 
