@@ -6,6 +6,7 @@
 // current mesh, so it still answers after vertices are added or removed.
 #pragma once
 
+#include "box_tree.h"
 #include "geometry.h"
 #include "topology.h"
 
@@ -14,7 +15,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <unordered_map>
 #include <vector>
 
 namespace sodt {
@@ -45,90 +45,75 @@ inline Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, 
   return a + ab * (vb / den) + ac * (vc / den);
 }
 
-/// A copy of a triangle mesh with its faces hashed into cubic cells.
+/// A copy of a triangle mesh's faces in a BoxTree, which answers in time
+/// that does not grow with the valence of a vertex (a uniform grid holds
+/// all n faces around a vertex of valence n in its cell, and every query
+/// there would read them all). Queries on one object must not run
+/// concurrently (within() remembers its last answers).
 class InputGrid {
  public:
-  /// Copies the live faces of faces over pos; cell is the cell's edge
-  /// length (> 0), about the mean edge length.
-  InputGrid(const std::vector<Vec3>& pos, const FaceList& faces, double cell) : cell_(cell) {
+  /// Copies the live faces of faces over pos. cell: about the mean edge
+  /// length, the scale of the rounding margin of the boxes.
+  InputGrid(const std::vector<Vec3>& pos, const FaceList& faces, double cell) {
+    double largest = 0;
     for (std::size_t f = 0; f < faces.tri.size(); ++f) {
       if (!faces.live[f]) continue;
       const auto& t = faces.tri[f];
       tri_.push_back({pos[t[0]], pos[t[1]], pos[t[2]]});
+      for (int v : t)
+        for (int k = 0; k < 3; ++k) largest = std::max(largest, std::abs(pos[v][k]));
     }
-    stamp_.assign(tri_.size(), 0);
-    for (std::size_t f = 0; f < tri_.size(); ++f) {
-      Vec3 lo = tri_[f][0], hi = tri_[f][0];
-      for (const Vec3& q : tri_[f])
-        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], q[k]), hi[k] = std::max(hi[k], q[k]);
-      forCells(lo, hi, [&](std::int64_t key) { cells_[key].push_back(static_cast<int>(f)); });
-    }
+    (void)cell;
+    tree_.build(static_cast<int>(tri_.size()), [this](int k, int j) { return tri_[k][j]; }, 1e-12 * largest);
   }
 
-  /// True when some input point lies within r of q.
+  /// A query opens at most this many nodes of the tree (an ordinary one
+  /// opens a few dozen). Only where hundreds of needles meet near q does it
+  /// reach it; it then answers as if nothing were near, which refuses the
+  /// change that asked (the callers' safe side), so that a vertex of
+  /// valence n costs O(1) per query there, not O(n).
+  static constexpr long kMaxNodes = 256;
+
+  /// True when some input point lies within r of q (false also when the
+  /// query gave up, see kMaxNodes).
   bool within(const Vec3& q, double r) const {
-    bool found = false;
-    visit(q, r, [&](const std::array<Vec3, 3>& t) {
-      found = pointTriangleDistance2(q, t[0], t[1], t[2]) <= r * r;
-      return found;
-    });
-    return found;
+    // The triangles that answered the last queries answer most of the
+    // next ones (a repair asks about a few points of one neighbourhood in
+    // a row): tried first, they spare the walk down the tree. The answer
+    // is the same either way.
+    for (int t : recent_)
+      if (t >= 0 && pointTriangleDistance2(q, tri_[t][0], tri_[t][1], tri_[t][2]) <= r * r) return true;
+    int hit = -1;
+    tree_.search(q, [r] { return r * r; }, [&](int t) {
+      if (pointTriangleDistance2(q, tri_[t][0], tri_[t][1], tri_[t][2]) <= r * r) hit = t;
+      return hit >= 0;
+    }, kMaxNodes);
+    if (hit < 0) return false;
+    recent_[next_] = hit;
+    next_ = (next_ + 1) % kRecent;
+    return true;
   }
 
-  /// The input point closest to q among those within r; false if none.
+  /// The input point closest to q among those within r; false if none (or
+  /// when the query gave up, see kMaxNodes).
   bool closest(const Vec3& q, double r, Vec3& out) const {
     double best = r * r;
     bool found = false;
-    visit(q, r, [&](const std::array<Vec3, 3>& t) {
-      const Vec3 c = closestPointOnTriangle(q, t[0], t[1], t[2]);
+    const bool complete = tree_.search(q, [&best] { return best; }, [&](int t) {
+      const Vec3 c = closestPointOnTriangle(q, tri_[t][0], tri_[t][1], tri_[t][2]);
       const double d = (c - q).SquaredNorm();
       if (d <= best) best = d, out = c, found = true;
       return false;
-    });
-    return found;
+    }, kMaxNodes);
+    return found && complete;
   }
 
  private:
-  /// Calls f with the key of every cell that meets the box [lo, hi]. Boxes
-  /// far larger than a cell (a sliver across a whole CAD face) still get
-  /// every cell: the caller's budget of such faces is small.
-  template <class F>
-  void forCells(const Vec3& lo, const Vec3& hi, F f) const {
-    std::int64_t a[3], b[3];
-    for (int k = 0; k < 3; ++k) a[k] = coord(lo[k]), b[k] = coord(hi[k]);
-    for (std::int64_t x = a[0]; x <= b[0]; ++x)
-      for (std::int64_t y = a[1]; y <= b[1]; ++y)
-        for (std::int64_t z = a[2]; z <= b[2]; ++z) f(key(x, y, z));
-  }
-
-  std::int64_t coord(double x) const { return static_cast<std::int64_t>(std::floor(x / cell_)); }
-  static std::int64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
-    return ((x & 0x1FFFFF) << 42) | ((y & 0x1FFFFF) << 21) | (z & 0x1FFFFF);
-  }
-
-  /// Calls f(triangle) once for every face in the cells within r of q,
-  /// until f returns true.
-  template <class F>
-  void visit(const Vec3& q, double r, F f) const {
-    ++epoch_;
-    bool stop = false;
-    forCells(q - Vec3(r, r, r), q + Vec3(r, r, r), [&](std::int64_t k) {
-      if (stop) return;
-      const auto it = cells_.find(k);
-      if (it == cells_.end()) return;
-      for (int t : it->second) {
-        if (stop || stamp_[t] == epoch_) continue;
-        stamp_[t] = epoch_;
-        stop = f(tri_[t]);
-      }
-    });
-  }
-
-  double cell_;
+  static constexpr int kRecent = 4;
   std::vector<std::array<Vec3, 3>> tri_;
-  std::unordered_map<std::int64_t, std::vector<int>> cells_;
-  mutable std::vector<std::uint32_t> stamp_;  ///< faces seen by the current query
-  mutable std::uint32_t epoch_ = 0;
+  BoxTree tree_;
+  mutable int recent_[kRecent] = {-1, -1, -1, -1};  ///< the last triangles within() found (not thread-safe)
+  mutable int next_ = 0;
 };
 
 }  // namespace sodt

@@ -3,6 +3,7 @@
 // angles, enclosed volume, Hausdorff distance, faces turned against a reference.
 #pragma once
 
+#include <sodt/box_tree.h>
 #include <sodt/geometry.h>
 #include <sodt/lanes.h>
 #include "mesh.h"
@@ -261,21 +262,11 @@ void setFaceGrid(FaceGrid& grid, Iter begin, Iter end, const typename FaceGrid::
   for (std::size_t c = 0; c <= cells; ++c) grid.grid[c] = grid.links.data() + start[c];
 }
 
-/// A hierarchy of oriented boxes over triangles, for the closest-face search
-/// where a grid does not work: a grid cell holds every face whose box meets
-/// it, and the box of a long needle meets a number of cells that grows with
-/// the mesh (a fan of N needles around one vertex puts about N^2 / 4 links
-/// in vcglib's grid: 10^10 for N = 10^5). Here each face is in one leaf, so
-/// the memory is linear in the faces, and a node is bounded by a box along
-/// the principal axes of its corners, which stays thin around a bundle of
-/// needles where an axis-aligned box would be as wide as the bundle is long.
-/// The faces are split at the median of their centroids along the widest
-/// axis of the centroids' box, as a bounding-volume hierarchy is usually
-/// built; the tree has about log2(F / 4) levels.
+/// The faces [begin, end) in a BoxTree (sodt/box_tree.h), for the
+/// closest-face search where vcglib's grid does not work (long needles).
 template <class FaceType>
 class FaceBoxTree {
  public:
-  using ScalarType = typename FaceType::ScalarType;
   using CoordType = typename FaceType::CoordType;
 
   /// Indexes the faces [begin, end). slack: an absolute margin added to
@@ -284,151 +275,28 @@ class FaceBoxTree {
   void build(Iter begin, Iter end, double slack) {
     faces_.clear();
     for (Iter i = begin; i != end; ++i) faces_.push_back(&*i);
-    nodes_.clear();
-    if (faces_.empty()) return;
-    const std::size_t n = faces_.size();
-    std::vector<Vec3> centroid(n);
-    for (std::size_t k = 0; k < n; ++k) centroid[k] = (corner(k, 0) + corner(k, 1) + corner(k, 2)) / 3.0;
-    std::vector<int> order(n);
-    for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<int>(k);
-    nodes_.reserve(2 * (n / kLeaf + 1));
-    nodes_.emplace_back();
-    struct Range { int node, begin, end; };
-    std::vector<Range> todo{{0, 0, static_cast<int>(n)}};
-    while (!todo.empty()) {
-      const Range r = todo.back();
-      todo.pop_back();
-      bound(nodes_[r.node], order, r.begin, r.end, slack);
-      if (r.end - r.begin <= kLeaf) {
-        nodes_[r.node].begin = r.begin;
-        nodes_[r.node].end = r.end;
-        continue;
-      }
-      vcg::Box3d box;
-      for (int k = r.begin; k < r.end; ++k) box.Add(vcg::Point3d(centroid[order[k]][0], centroid[order[k]][1], centroid[order[k]][2]));
-      const vcg::Point3d d = box.Dim();
-      const int axis = d[0] >= d[1] && d[0] >= d[2] ? 0 : (d[1] >= d[2] ? 1 : 2);
-      const int mid = r.begin + (r.end - r.begin) / 2;
-      std::nth_element(order.begin() + r.begin, order.begin() + mid, order.begin() + r.end,
-                       [&](int a, int b) { return centroid[a][axis] < centroid[b][axis] || (centroid[a][axis] == centroid[b][axis] && a < b); });
-      const int left = static_cast<int>(nodes_.size());
-      nodes_[r.node].left = left;
-      nodes_.emplace_back();
-      nodes_.emplace_back();
-      todo.push_back({left + 1, mid, r.end});
-      todo.push_back({left, r.begin, mid});
-    }
-    std::vector<const FaceType*> sorted(n);
-    for (std::size_t k = 0; k < n; ++k) sorted[k] = faces_[order[k]];
-    faces_.swap(sorted);
+    tree_.build(static_cast<int>(faces_.size()),
+                [this](int k, int j) {
+                  const CoordType& c = faces_[k]->cP(j);
+                  return Vec3(double(c[0]), double(c[1]), double(c[2]));
+                },
+                slack);
   }
 
-  bool empty() const { return nodes_.empty(); }
+  bool empty() const { return tree_.empty(); }
 
   /// Calls visit(face) for every face whose leaf's box is within
-  /// sqrt(reach2()) of p, nearer subtrees first; reach2 is asked again
-  /// before each node, so a visit that finds a closer face narrows the
-  /// search.
+  /// sqrt(reach2()) of p, nearer subtrees first (BoxTree::search).
   template <class Reach2, class Visit>
   void search(const CoordType& p, Reach2&& reach2, Visit&& visit) const {
-    if (nodes_.empty()) return;
-    const Vec3 q{double(p[0]), double(p[1]), double(p[2])};
-    struct Entry { int node; double d2; };
-    Entry stack[128];
-    int top = 0;
-    stack[top++] = {0, distance2(nodes_[0], q)};
-    while (top > 0) {
-      const Entry e = stack[--top];
-      if (e.d2 > reach2()) continue;
-      const Node& nd = nodes_[e.node];
-      if (nd.left < 0) {
-        for (int k = nd.begin; k < nd.end; ++k) visit(*faces_[k]);
-        continue;
-      }
-      const double a = distance2(nodes_[nd.left], q), b = distance2(nodes_[nd.left + 1], q);
-      // The nearer child is searched first: it goes on top.
-      if (a <= b) {
-        stack[top++] = {nd.left + 1, b};
-        stack[top++] = {nd.left, a};
-      } else {
-        stack[top++] = {nd.left, a};
-        stack[top++] = {nd.left + 1, b};
-      }
-    }
+    tree_.search(Vec3(double(p[0]), double(p[1]), double(p[2])), reach2, [&](int k) {
+      visit(*faces_[k]);
+      return false;
+    });
   }
 
  private:
-  static constexpr int kLeaf = 4;  ///< most faces in a leaf
-
-  struct Node {
-    Vec3 centre;
-    Vec3 axis[3];     ///< orthonormal
-    double half[3];   ///< half extents along axis, with the slack
-    int left = -1;    ///< children left and left + 1; -1 for a leaf
-    int begin = 0, end = 0;  ///< a leaf's faces in faces_
-  };
-
-  Vec3 corner(std::size_t k, int j) const {
-    const CoordType& c = faces_[k]->cP(j);
-    return Vec3(double(c[0]), double(c[1]), double(c[2]));
-  }
-
-  /// Squared distance from q to the node's box (0 inside).
-  static double distance2(const Node& nd, const Vec3& q) {
-    const Vec3 d = q - nd.centre;
-    double s = 0;
-    for (int i = 0; i < 3; ++i) {
-      const double e = std::max(std::abs(d * nd.axis[i]) - nd.half[i], 0.0);
-      s += e * e;
-    }
-    return s;
-  }
-
-  /// The box of the corners of faces order[b, e): along the principal axes
-  /// of those corners (the axes of the world when they are not finite).
-  void bound(Node& nd, const std::vector<int>& order, int b, int e, double slack) const {
-    const Vec3 ref = corner(order[b], 0);
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    double count = 0;
-    for (int k = b; k < e; ++k)
-      for (int j = 0; j < 3; ++j) {
-        const Vec3 d = corner(order[k], j) - ref;
-        const Eigen::Vector3d x(d[0], d[1], d[2]);
-        sum += x;
-        cov += x * x.transpose();
-        count += 1;
-      }
-    const Eigen::Vector3d mean = sum / count;
-    cov = cov / count - mean * mean.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-    Eigen::Matrix3d V = eig.eigenvectors();
-    if (eig.info() != Eigen::Success || !V.allFinite()) V = Eigen::Matrix3d::Identity();
-    for (int i = 0; i < 3; ++i) nd.axis[i] = Vec3(V(0, i), V(1, i), V(2, i));
-    // Orthonormal to rounding; the extents below are measured along these
-    // very axes, so the box holds the corners whatever the axes are.
-    double lo[3], hi[3];
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = std::numeric_limits<double>::infinity();
-      hi[i] = -lo[i];
-    }
-    for (int k = b; k < e; ++k)
-      for (int j = 0; j < 3; ++j) {
-        const Vec3 d = corner(order[k], j) - ref;
-        for (int i = 0; i < 3; ++i) {
-          const double t = d * nd.axis[i];
-          lo[i] = std::min(lo[i], t);
-          hi[i] = std::max(hi[i], t);
-        }
-      }
-    nd.centre = ref;
-    for (int i = 0; i < 3; ++i) {
-      nd.centre += nd.axis[i] * (0.5 * (lo[i] + hi[i]));
-      nd.half[i] = 0.5 * (hi[i] - lo[i]) * (1 + 1e-9) + slack;
-    }
-  }
-
-  std::vector<Node> nodes_;
+  BoxTree tree_;
   std::vector<const FaceType*> faces_;
 };
 
