@@ -23,11 +23,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
 namespace sodt {
+
+/// The repair's local work around a vertex with more faces than this is
+/// not worth its cost: it does not flip around it, relax it, nor relax the
+/// whole star around it (a vertex of valence n in every round's region
+/// would cost O(n) per round, and such a vertex is a fan's apex whose
+/// needles no local change can lift).
+constexpr std::size_t kRepairMaxStar = 64;
 
 /// What the repair may do.
 struct RepairSettings {
@@ -99,9 +108,49 @@ class LocalRepair {
   bool nearInput(const std::vector<std::array<Vec3, 3>>& tris) const;
   /// q lies within the bound of one of tris: the input point q is not cut off.
   bool covered(const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris) const;
+  /// Adds f to v's faces. A star larger than kRepairMaxStar keeps where
+  /// each face is (bigAt_), so that removing one costs O(1), not O(n).
+  void addToVf(int v, int f) {
+    auto& l = vf_[v];
+    l.push_back(f);
+    if (l.size() == kRepairMaxStar + 1)
+      for (std::size_t k = 0; k < l.size(); ++k) bigAt_[slot(v, l[k])] = static_cast<int>(k);
+    else if (l.size() > kRepairMaxStar + 1)
+      bigAt_[slot(v, f)] = static_cast<int>(l.size() - 1);
+  }
+  /// Removes f from v's faces: keeping their order in a small star, moving
+  /// the last one into its place in a large one.
   void removeFromVf(int v, int f) {
     auto& l = vf_[v];
-    l.erase(std::remove(l.begin(), l.end(), f), l.end());
+    if (l.size() <= kRepairMaxStar) {
+      l.erase(std::remove(l.begin(), l.end(), f), l.end());
+      return;
+    }
+    const auto it = bigAt_.find(slot(v, f));
+    if (it == bigAt_.end()) return;
+    const int k = it->second;
+    bigAt_.erase(it);
+    if (k + 1 != static_cast<int>(l.size())) {
+      l[k] = l.back();
+      bigAt_[slot(v, l[k])] = k;
+    }
+    l.pop_back();
+    if (l.size() == kRepairMaxStar)
+      for (int g : l) bigAt_.erase(slot(v, g));
+  }
+  /// Empties v's faces.
+  void clearVf(int v) {
+    if (vf_[v].size() > kRepairMaxStar)
+      for (int g : vf_[v]) bigAt_.erase(slot(v, g));
+    vf_[v].clear();
+  }
+  static std::uint64_t slot(int v, int f) { return (std::uint64_t(std::uint32_t(v)) << 32) | std::uint32_t(f); }
+  /// bigAt_ for the large stars of vf_ as it is.
+  void indexLargeStars() {
+    bigAt_.clear();
+    for (std::size_t v = 0; v < vf_.size(); ++v)
+      if (vf_[v].size() > kRepairMaxStar)
+        for (std::size_t k = 0; k < vf_[v].size(); ++k) bigAt_[slot(int(v), vf_[v][k])] = static_cast<int>(k);
   }
 
   Verdict tryFlip(int a, int b);
@@ -124,6 +173,7 @@ class LocalRepair {
   RepairSettings s_;
   std::vector<Role> role_;
   std::vector<std::vector<int>> vf_;
+  std::unordered_map<std::uint64_t, int> bigAt_;  ///< slot(v, f) -> position of f in vf_[v], large stars only
   std::unordered_set<std::uint64_t> feature_;
   std::vector<char> newCrease_;
   std::vector<int> touched_;
@@ -131,6 +181,9 @@ class LocalRepair {
 };
 
 inline int LocalRepair::edgeFaces(int a, int b, int out[2]) const {
+  // Through the smaller star: a vertex of valence n costs O(n) only when
+  // both ends are that large.
+  if (vf_[b].size() < vf_[a].size()) std::swap(a, b);
   int n = 0;
   for (int f : vf_[a]) {
     const auto& t = faces_.tri[f];
@@ -165,9 +218,10 @@ inline void LocalRepair::setUp(const std::vector<char>& movable, const std::vect
                                const std::vector<Vec3>* creaseDir) {
   const int nv = static_cast<int>(pos_.size());
   vf_.assign(nv, {});
+  bigAt_.clear();
   for (std::size_t f = 0; f < faces_.tri.size(); ++f)
     if (faces_.live[f])
-      for (int v : faces_.tri[f]) vf_[v].push_back(static_cast<int>(f));
+      for (int v : faces_.tri[f]) addToVf(v, static_cast<int>(f));
   role_.assign(nv, Role::Free);
   for (int v = 0; v < nv; ++v)
     if (!movable[v] || deleted_[v]) role_[v] = Role::Fixed;
@@ -256,8 +310,8 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   faces_.tri[f2] = {d, b, c};
   removeFromVf(a, f2);
   removeFromVf(b, f1);
-  vf_[c].push_back(f2);
-  vf_[d].push_back(f1);
+  addToVf(c, f2);
+  addToVf(d, f1);
   ++r_.flips;
   touched_.insert(touched_.end(), {a, b, c, d});
   return Done;
@@ -305,14 +359,14 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
     if (f == f1 || f == f2) continue;
     for (int& v : faces_.tri[f])
       if (v == a) v = b;
-    vf_[b].push_back(f);
+    addToVf(b, f);
   }
   for (int f : {f1, f2}) {
     faces_.live[f] = 0;
     for (int v : faces_.tri[f])
       if (v != a) removeFromVf(v, f);
   }
-  vf_[a].clear();
+  clearVf(a);
   deleted_[a] = 1;
   role_[a] = Role::Fixed;
   ++r_.collapses;
@@ -362,10 +416,10 @@ inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
   removeFromVf(b, f1);
   removeFromVf(a, f2);
   vf_[m] = {f1, f2, f3, f4};
-  vf_[b].push_back(f3);
-  vf_[c].push_back(f3);
-  vf_[a].push_back(f4);
-  vf_[d].push_back(f4);
+  addToVf(b, f3);
+  addToVf(c, f3);
+  addToVf(a, f4);
+  addToVf(d, f4);
   if (feat) {
     feature_.erase(key(a, b));
     feature_.insert(key(a, m));
@@ -435,7 +489,7 @@ inline void LocalRepair::flipAround(const std::vector<int>& vertices) {
   for (int pass = 0; pass < 5 && !seeds.empty(); ++pass) {
     const std::size_t from = touched_.size();
     for (int a : seeds) {
-      if (deleted_[a]) continue;
+      if (deleted_[a] || vf_[a].size() > kRepairMaxStar) continue;
       std::vector<int> nbr;
       for (int f : vf_[a])
         for (int b : faces_.tri[f])
@@ -457,20 +511,23 @@ inline bool LocalRepair::orderedRing(int v, std::vector<int>& ring) const {
   const std::vector<int>& fs = vf_[v];
   ring.clear();
   if (fs.size() < 3) return false;
-  std::vector<std::pair<int, int>> next;  // x -> y for face (v, x, y)
+  std::vector<std::pair<int, int>> next;  // x -> y for face (v, x, y), sorted by x
   for (int f : fs) {
     const auto& t = faces_.tri[f];
     for (int j = 0; j < 3; ++j)
       if (t[j] == v) next.push_back({t[(j + 1) % 3], t[(j + 2) % 3]});
   }
-  int cur = next[0].first;
+  std::sort(next.begin(), next.end());
+  for (std::size_t k = 0; k + 1 < next.size(); ++k)
+    if (next[k].first == next[k + 1].first) return false;  // x starts two faces: not one fan
+  // From the face first in vf_, as the ring has always started.
+  const auto& t0 = faces_.tri[fs[0]];
+  int cur = t0[0] == v ? t0[1] : t0[1] == v ? t0[2] : t0[0];
   for (std::size_t k = 0; k < next.size(); ++k) {
     ring.push_back(cur);
-    int to = -1, hits = 0;
-    for (const auto& e : next)
-      if (e.first == cur) to = e.second, ++hits;
-    if (hits != 1) return false;
-    cur = to;
+    const auto it = std::lower_bound(next.begin(), next.end(), std::make_pair(cur, std::numeric_limits<int>::min()));
+    if (it == next.end() || it->first != cur) return false;
+    cur = it->second;
   }
   return cur == ring[0];
 }
@@ -482,7 +539,7 @@ inline bool LocalRepair::orderedRing(int v, std::vector<int>& ring) const {
 /// nor gets a smaller smallest angle than the star had, the star stays
 /// near the input and covers v's old position.
 inline bool LocalRepair::relax(int v) {
-  if (deleted_[v] || role_[v] == Role::Fixed) return false;
+  if (deleted_[v] || role_[v] == Role::Fixed || vf_[v].size() > kRepairMaxStar) return false;
   std::vector<int> ring;
   if (!orderedRing(v, ring)) return false;
   Star st;
@@ -559,6 +616,7 @@ inline void LocalRepair::save(Snapshot& s) const {
 inline void LocalRepair::restore(const Snapshot& s) {
   pos_ = s.pos, faces_ = s.faces, deleted_ = s.deleted, newCrease_ = s.newCrease;
   role_ = s.role, vf_ = s.vf, feature_ = s.feature, r_ = s.counts;
+  indexLargeStars();
 }
 
 /// One round: an attempt on every face below the target, worst first, then
@@ -590,9 +648,11 @@ inline bool LocalRepair::round(std::vector<RepairReason>& why, bool& budgetOut) 
   region.erase(std::unique(region.begin(), region.end()), region.end());
   flipAround(region);
   std::vector<int> relaxSet;
-  for (int v : region)
+  for (int v : region) {
+    if (vf_[v].size() > kRepairMaxStar) continue;
     for (int f : vf_[v])
       for (int u : faces_.tri[f]) relaxSet.push_back(u);
+  }
   std::sort(relaxSet.begin(), relaxSet.end());
   relaxSet.erase(std::unique(relaxSet.begin(), relaxSet.end()), relaxSet.end());
   for (int sweep = 0; sweep < 4; ++sweep)
