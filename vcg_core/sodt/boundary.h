@@ -25,6 +25,12 @@ namespace sodt {
 /// sampled at 12 or more vertices per full turn slides.
 constexpr double kBoundaryCornerDeg = 30.0;
 
+/// A border vertex with more faces than this stays fixed too: it is the
+/// apex of a fan-triangulated polygon or of a cone's cap, and a slide
+/// would read its whole fan for each of its faces' sample points (O(n^2)
+/// per visit for a fan of n faces).
+constexpr int kMaxSlidingFan = 64;
+
 /// The open fan of a border vertex v: faces (v, ring[k], ring[k+1]) for k <
 /// faces.size(), in the mesh's orientation. The border runs ring.back() ->
 /// v -> ring.front().
@@ -130,7 +136,7 @@ struct BoundarySlide {
     for (int v = 0; v < nv; ++v) {
       if (topo.kind[v] != VertexKind::Boundary) continue;
       OpenFan f;
-      if (!openFan(v, faces, inc, f)) {
+      if (inc.begin[v + 1] - inc.begin[v] > kMaxSlidingFan || !openFan(v, faces, inc, f)) {
         ++corners;
         continue;
       }

@@ -149,7 +149,8 @@ struct SodtParams {
   /// minimiser of Eq. 5 over their open fan along the border direction,
   /// staying on a curve through the input border, under the same guards. Corners of
   /// the border (a turn above kBoundaryCornerDeg, or more than two border
-  /// edges) stay fixed. Off: every border vertex stays fixed, as in the paper.
+  /// edges) stay fixed, and so do border vertices with more than
+  /// kMaxSlidingFan faces. Off: every border vertex stays fixed, as in the paper.
   bool slideBoundary = false;
 
   /// Throws InvalidInput naming the offending field when a value lies
@@ -543,7 +544,8 @@ inline void slideBoundaryParam(ParamSpec& t) {
                 "direction between its two border neighbours, the step taken along a smooth curve through "
                 "the input border, so that the border keeps its place and nearly its length; under the "
                 "same guards as the other vertices. Corners of the border (where it turns by more than 30 degrees, or a "
-                "vertex with more than two border edges) stay fixed. With selected only, only selected "
+                "vertex with more than two border edges) stay fixed, and so does a border vertex with more "
+                "than 64 faces (the apex of a fan-triangulated polygon). With selected only, only selected "
                 "border vertices slide.");
 }
 
