@@ -3,9 +3,9 @@
 // and `sodt stats` (see report.h).
 #include "report.h"
 
-#include <sodt/filter_select.h>
-#include <sodt/noise_estimate.h>
-#include <sodt/output.h>
+#include <sodt/denoise/filter_select.h>
+#include <sodt/denoise/noise_estimate.h>
+#include <sodt/mesh/output.h>
 
 #include <nlohmann/json.hpp>
 

@@ -6,7 +6,7 @@
 
 #include "options.h"
 
-#include <sodt/classify.h>
+#include <sodt/maths/classify.h>
 #include <sodt_io/io.h>
 #include <sodt_io/mesh.h>
 #include <sodt_io/metrics.h>

@@ -7,8 +7,8 @@
 #include "options.h"
 #include "report.h"
 
-#include <sodt/classify.h>
-#include <sodt/noise_estimate.h>
+#include <sodt/maths/classify.h>
+#include <sodt/denoise/noise_estimate.h>
 #include <sodt_io/io.h>
 #include <sodt_io/mesh.h>
 #include <sodt/params.h>

@@ -5,11 +5,11 @@
 
 #include "sodt_rich_params.h"
 
-#include <sodt/classify.h>
-#include <sodt/filter_select.h>
-#include <sodt/noise_estimate.h>
+#include <sodt/maths/classify.h>
+#include <sodt/denoise/filter_select.h>
+#include <sodt/denoise/noise_estimate.h>
 #include <sodt_io/metrics.h>
-#include <sodt/output.h>
+#include <sodt/mesh/output.h>
 #include <sodt/params.h>
 #include <sodt/smoother.h>
 

@@ -3,8 +3,8 @@
 // classes are known: cubes, planes, spheres.
 #include "test_mesh.h"
 
-#include <sodt/classify.h>
-#include <sodt/output.h>
+#include <sodt/maths/classify.h>
+#include <sodt/mesh/output.h>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // The deviation bound's other direction (cover.h): the input stays near the
 // output, so the sweeps cannot cut off a tip, and the two-way distance stays
 // near the bound.
-#include <sodt/cover.h>
+#include <sodt/guards/cover.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/mesh.h>
 #include <sodt_io/prebuilt.h>

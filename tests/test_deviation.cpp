@@ -2,7 +2,7 @@
 // The deviation guard: its face test must give the answer of the exact
 // point-triangle distance everywhere, and the margins it keeps between visits
 // must not change any result.
-#include <sodt/deviation.h>
+#include <sodt/guards/deviation.h>
 #include <sodt_io/io.h>
 #include <sodt_io/mesh.h>
 #include <sodt_io/prebuilt.h>

@@ -6,10 +6,10 @@
 
 #include "test_mesh.h"
 
-#include <sodt/noise_estimate.h>
-#include <sodt/filter_select.h>
-#include <sodt/normal_filter.h>
-#include <sodt/surface_restore.h>
+#include <sodt/denoise/noise_estimate.h>
+#include <sodt/denoise/filter_select.h>
+#include <sodt/denoise/normal_filter.h>
+#include <sodt/denoise/surface_restore.h>
 #include <sodt_io/io.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/prebuilt.h>

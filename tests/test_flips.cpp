@@ -3,11 +3,11 @@
 // manifoldness, creases never flipped, returned quality never below the input's.
 #include "test_mesh.h"
 
-#include <sodt/flips.h>
+#include <sodt/remesh/flips.h>
 #include <sodt_io/io.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/prebuilt.h>
-#include <sodt/topology.h>
+#include <sodt/maths/topology.h>
 
 #include <gtest/gtest.h>
 

@@ -5,10 +5,10 @@
 #include "test_mesh.h"
 
 #include <sodt_io/io.h>
-#include <sodt/lanes.h>
-#include <sodt/local_solve.h>
+#include <sodt/maths/lanes.h>
+#include <sodt/maths/local_solve.h>
 #include <sodt_io/prebuilt.h>
-#include <sodt/sweep_quality.h>
+#include <sodt/guards/sweep_quality.h>
 
 #include <gtest/gtest.h>
 

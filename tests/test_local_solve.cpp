@@ -3,8 +3,8 @@
 // minimisation of Eq. 5, Appendix B's invariant, equivariance, degeneracy, guards.
 #include "test_mesh.h"
 
-#include <sodt/local_solve.h>
-#include <sodt/odt.h>
+#include <sodt/maths/local_solve.h>
+#include <sodt/maths/odt.h>
 
 #include <gtest/gtest.h>
 

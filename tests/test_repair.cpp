@@ -4,7 +4,7 @@
 // angle rises, and nothing is done where nothing is needed.
 #include "test_mesh.h"
 
-#include <sodt/repair.h>
+#include <sodt/remesh/repair.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/prebuilt.h>
 

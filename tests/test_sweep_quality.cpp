@@ -1,7 +1,7 @@
 // The per-sweep quality of keepBest and toleranceDeg against its definition:
 // every face's smallest angle, sorted.
 #include <gtest/gtest.h>
-#include <sodt/sweep_quality.h>
+#include <sodt/guards/sweep_quality.h>
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 // non-manifold edges, deleted and degenerate faces.
 #include "test_mesh.h"
 
-#include <sodt/topology.h>
+#include <sodt/maths/topology.h>
 
 #include <gtest/gtest.h>
 

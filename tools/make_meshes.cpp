@@ -5,7 +5,7 @@
 
 #include "mesh_check.h"
 
-#include <sodt/geometry.h>
+#include <sodt/maths/geometry.h>
 #include <sodt_io/io.h>
 #include <sodt_io/mesh.h>
 #include <sodt_io/metrics.h>

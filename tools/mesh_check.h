@@ -3,7 +3,7 @@
 // closedness, edge/vertex manifoldness, orientation, components, angles.
 #pragma once
 
-#include <sodt/geometry.h>
+#include <sodt/maths/geometry.h>
 #include <sodt_io/metrics.h>
 
 #include <algorithm>

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <sodt_io/io.h>
-#include <sodt/output.h>
+#include <sodt/mesh/output.h>
 #include <sodt/params.h>
 #include <wrap/io_trimesh/import_ply.h>
 

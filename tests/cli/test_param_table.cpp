@@ -7,7 +7,7 @@
 
 #include "options.h"
 
-#include <sodt/flips.h>
+#include <sodt/remesh/flips.h>
 #include <sodt/params.h>
 
 #include <cmath>

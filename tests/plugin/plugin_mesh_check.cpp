@@ -41,7 +41,7 @@
 #include <sodt_io/io.h>
 #include <sodt_io/mesh.h>
 #include <sodt_io/metrics.h>
-#include <sodt/output.h>
+#include <sodt/mesh/output.h>
 
 #include <wrap/io_trimesh/export_ply.h>
 

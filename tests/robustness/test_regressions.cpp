@@ -9,7 +9,7 @@
 
 #include <sodt_io/io.h>
 #include <sodt_io/prebuilt.h>
-#include <sodt/topology.h>
+#include <sodt/maths/topology.h>
 
 #include <cmath>
 #include <cstdint>
@@ -67,7 +67,7 @@ TEST(RegressionCore, GuardNoneNeverWritesNonFiniteCoordinatesOnFloatMesh) {
   }
 }
 
-/// MINOR BUG: vcg_core/sodt/topology.h, buildRingTopology(): a vertex that
+/// MINOR BUG: vcg_core/sodt/maths/topology.h, buildRingTopology(): a vertex that
 /// only faces with a repeated index use is classified Isolated (the
 /// `b == e` test comes before the `badFace` test), although the contract says
 /// "the vertices of a face with a repeated vertex are marked NonManifold".

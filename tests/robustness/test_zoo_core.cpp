@@ -14,7 +14,7 @@
 #include <sodt_io/io.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/prebuilt.h>
-#include <sodt/topology.h>
+#include <sodt/maths/topology.h>
 
 #include <algorithm>
 #include <array>

@@ -5,7 +5,7 @@
 
 #include "defect_zoo.h"
 
-#include <sodt/geometry.h>
+#include <sodt/maths/geometry.h>
 
 #include <algorithm>
 #include <cmath>

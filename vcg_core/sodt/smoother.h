@@ -12,19 +12,19 @@
 //   surface_restore.h Filtered: smooth vertices back on the denoised surface
 #pragma once
 
-#include "boundary.h"
-#include "classify.h"
-#include "flips.h"
-#include "guarded_move.h"
-#include "filter_select.h"
+#include "sweeps/boundary.h"
+#include "maths/classify.h"
+#include "remesh/flips.h"
+#include "guards/guarded_move.h"
+#include "denoise/filter_select.h"
 #include "params.h"
-#include "repair.h"
-#include "run_setup.h"
-#include "surface_restore.h"
-#include "sweep_quality.h"
-#include "sweeper.h"
-#include "topology.h"
-#include "working_mesh.h"
+#include "remesh/repair.h"
+#include "sweeps/run_setup.h"
+#include "denoise/surface_restore.h"
+#include "guards/sweep_quality.h"
+#include "sweeps/sweeper.h"
+#include "maths/topology.h"
+#include "mesh/working_mesh.h"
 
 #include <wrap/callback.h>
 

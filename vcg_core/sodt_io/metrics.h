@@ -3,9 +3,9 @@
 // angles, enclosed volume, Hausdorff distance, faces turned against a reference.
 #pragma once
 
-#include <sodt/box_tree.h>
-#include <sodt/geometry.h>
-#include <sodt/lanes.h>
+#include <sodt/maths/box_tree.h>
+#include <sodt/maths/geometry.h>
+#include <sodt/maths/lanes.h>
 #include "mesh.h"
 
 #include <Eigen/Eigenvalues>

@@ -4,11 +4,11 @@
 // mesh before a run and written back after it.
 #pragma once
 
-#include "classify.h"
-#include "geometry.h"
+#include "../maths/classify.h"
+#include "../maths/geometry.h"
 #include "normals.h"
-#include "params.h"
-#include "topology.h"
+#include "../params.h"
+#include "../maths/topology.h"
 
 #include <vcg/complex/allocate.h>
 #include <vcg/complex/algorithms/update/bounding.h>

@@ -18,9 +18,9 @@
 // moved their faces and cost a degree of dihedral error).
 #pragma once
 
-#include "fitting.h"
-#include "geometry.h"
-#include "topology.h"
+#include "../maths/fitting.h"
+#include "../maths/geometry.h"
+#include "../maths/topology.h"
 
 #include <Eigen/Eigenvalues>
 

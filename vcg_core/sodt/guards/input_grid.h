@@ -6,9 +6,9 @@
 // current mesh, so it still answers after vertices are added or removed.
 #pragma once
 
-#include "box_tree.h"
-#include "geometry.h"
-#include "topology.h"
+#include "../maths/box_tree.h"
+#include "../maths/geometry.h"
+#include "../maths/topology.h"
 
 #include <algorithm>
 #include <array>

@@ -23,8 +23,8 @@
 
 #include "noise_estimate.h"
 #include "normal_filter.h"
-#include "params.h"
-#include "topology.h"
+#include "../params.h"
+#include "../maths/topology.h"
 
 #include <algorithm>
 #include <cmath>

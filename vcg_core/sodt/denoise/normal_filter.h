@@ -8,9 +8,9 @@
 // surface.
 #pragma once
 
-#include "geometry.h"
-#include "params.h"
-#include "topology.h"
+#include "../maths/geometry.h"
+#include "../params.h"
+#include "../maths/topology.h"
 
 #include <algorithm>
 #include <array>

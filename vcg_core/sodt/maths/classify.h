@@ -4,7 +4,7 @@
 #pragma once
 
 #include "geometry.h"
-#include "params.h"
+#include "../params.h"
 #include "topology.h"
 
 #include <Eigen/Eigenvalues>

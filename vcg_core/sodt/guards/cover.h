@@ -3,8 +3,8 @@
 // edge midpoints and face centroids) must stay within the bound of the output.
 #pragma once
 
-#include "geometry.h"
-#include "topology.h"
+#include "../maths/geometry.h"
+#include "../maths/topology.h"
 
 #include <algorithm>
 #include <array>

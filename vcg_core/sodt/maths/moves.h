@@ -9,7 +9,7 @@
 #include "fitting.h"
 #include "local_solve.h"
 #include "odt.h"
-#include "params.h"
+#include "../params.h"
 
 #include <vector>
 

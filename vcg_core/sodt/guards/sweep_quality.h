@@ -8,9 +8,9 @@
 #include <cmath>
 #include <vector>
 
-#include "geometry.h"
-#include "lanes.h"
-#include "topology.h"
+#include "../maths/geometry.h"
+#include "../maths/lanes.h"
+#include "../maths/topology.h"
 
 #ifdef _OPENMP
 #include <omp.h>

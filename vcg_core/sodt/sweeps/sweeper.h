@@ -6,13 +6,13 @@
 #pragma once
 
 #include "boundary.h"
-#include "deviation.h"
-#include "guarded_move.h"
+#include "../guards/deviation.h"
+#include "../guards/guarded_move.h"
 #include "lane_plan.h"
-#include "lanes.h"
-#include "local_solve.h"
-#include "params.h"
-#include "topology.h"
+#include "../maths/lanes.h"
+#include "../maths/local_solve.h"
+#include "../params.h"
+#include "../maths/topology.h"
 
 #include <algorithm>
 #include <array>

@@ -7,8 +7,8 @@
 // part 0, while normal noise of sigma s edges reads about s.
 #pragma once
 
-#include "geometry.h"
-#include "topology.h"
+#include "../maths/geometry.h"
+#include "../maths/topology.h"
 
 #include <Eigen/Dense>
 

@@ -4,11 +4,11 @@
 // 3's fitted planes and lines, and the input surface of the deviation bound.
 #pragma once
 
-#include "classify.h"
-#include "deviation.h"
-#include "fitting.h"
-#include "params.h"
-#include "topology.h"
+#include "../maths/classify.h"
+#include "../guards/deviation.h"
+#include "../maths/fitting.h"
+#include "../params.h"
+#include "../maths/topology.h"
 
 #include <array>
 #include <cmath>

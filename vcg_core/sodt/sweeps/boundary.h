@@ -4,12 +4,12 @@
 // guarded visit (the S-ODT minimiser along the border, Eq. 5 on the open fan).
 #pragma once
 
-#include "deviation.h"
-#include "geometry.h"
-#include "guarded_move.h"
-#include "local_solve.h"
-#include "params.h"
-#include "topology.h"
+#include "../guards/deviation.h"
+#include "../maths/geometry.h"
+#include "../guards/guarded_move.h"
+#include "../maths/local_solve.h"
+#include "../params.h"
+#include "../maths/topology.h"
 
 #include <algorithm>
 #include <array>

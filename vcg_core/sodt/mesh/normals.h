@@ -3,8 +3,8 @@
 // working arrays (vertices in breadth-first order), on several threads.
 #pragma once
 
-#include "geometry.h"
-#include "topology.h"
+#include "../maths/geometry.h"
+#include "../maths/topology.h"
 
 #include <vcg/complex/complex.h>
 

@@ -3,7 +3,7 @@
 // a fixed colour palette, and the selection of feature vertices.
 #pragma once
 
-#include "classify.h"
+#include "../maths/classify.h"
 
 #include <vcg/complex/complex.h>
 

@@ -3,12 +3,12 @@
 // coplanar triangles is flipped when that raises the smaller angle of the pair.
 #pragma once
 
-#include "cover.h"
-#include "deviation.h"
-#include "geometry.h"
-#include "local_solve.h"
-#include "params.h"
-#include "topology.h"
+#include "../guards/cover.h"
+#include "../guards/deviation.h"
+#include "../maths/geometry.h"
+#include "../maths/local_solve.h"
+#include "../params.h"
+#include "../maths/topology.h"
 
 #include <algorithm>
 #include <array>

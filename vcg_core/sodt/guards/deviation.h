@@ -4,9 +4,9 @@
 // faces of its neighbours' one-rings that lie around it).
 #pragma once
 
-#include "geometry.h"
-#include "local_solve.h"
-#include "topology.h"
+#include "../maths/geometry.h"
+#include "../maths/local_solve.h"
+#include "../maths/topology.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,8 +3,8 @@
 // are solved four at once and which one by one.
 #pragma once
 
-#include "lanes.h"
-#include "topology.h"
+#include "../maths/lanes.h"
+#include "../maths/topology.h"
 
 #include <array>
 #include <cstddef>

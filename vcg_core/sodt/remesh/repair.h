@@ -10,15 +10,15 @@
 // output -> input).
 #pragma once
 
-#include "classify.h"
+#include "../maths/classify.h"
 #include "flips.h"
-#include "geometry.h"
-#include "input_grid.h"
-#include "local_solve.h"
-#include "params.h"
-#include "run_setup.h"
-#include "topology.h"
-#include "working_mesh.h"
+#include "../maths/geometry.h"
+#include "../guards/input_grid.h"
+#include "../maths/local_solve.h"
+#include "../params.h"
+#include "../sweeps/run_setup.h"
+#include "../maths/topology.h"
+#include "../mesh/working_mesh.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,14 +8,14 @@
 // surface (deviation.h).
 #pragma once
 
-#include "classify.h"
+#include "../maths/classify.h"
 #include "cover.h"
 #include "deviation.h"
-#include "lanes.h"
-#include "local_solve.h"
-#include "moves.h"
-#include "params.h"
-#include "topology.h"
+#include "../maths/lanes.h"
+#include "../maths/local_solve.h"
+#include "../maths/moves.h"
+#include "../params.h"
+#include "../maths/topology.h"
 
 #include <vector>
 
