@@ -47,6 +47,14 @@ enum class Guard : int {
   Quality = 2,  ///< Fold, and the smallest angle of the vertex's star may not decrease
 };
 
+/// The name of enumerator e of an enum numbered 0..N-1, from names in that
+/// order; "?" for a value outside it.
+template <class E, std::size_t N>
+const char* enumName(E e, const char* const (&names)[N]) {
+  const auto i = static_cast<std::size_t>(e);
+  return i < N ? names[i] : "?";
+}
+
 /// Thrown when the input mesh or the parameters cannot be processed.
 class InvalidInput : public std::invalid_argument {
  public:
@@ -167,13 +175,8 @@ enum class RepairReason : int {
 };
 
 inline const char* toString(RepairReason r) {
-  switch (r) {
-    case RepairReason::Pinned: return "pinned";
-    case RepairReason::Bound: return "bound";
-    case RepairReason::NonManifold: return "non-manifold";
-    case RepairReason::Budget: return "budget";
-  }
-  return "?";
+  static const char* const names[] = {"pinned", "bound", "non-manifold", "budget"};
+  return enumName(r, names);
 }
 
 /// A triangle the repair left below its target: where it is (its
@@ -193,12 +196,8 @@ enum class FilterKind {
 };
 
 inline const char* toString(FilterKind k) {
-  switch (k) {
-    case FilterKind::None: return "none";
-    case FilterKind::Normals: return "normals";
-    case FilterKind::Taubin: return "taubin";
-  }
-  return "?";
+  static const char* const names[] = {"none", "normals", "taubin"};
+  return enumName(k, names);
 }
 
 /// What filtered's first stage chose, and from what: the filter and its
@@ -280,24 +279,13 @@ struct SodtStats {
 };
 
 inline const char* toString(Guard g) {
-  switch (g) {
-    case Guard::None: return "none";
-    case Guard::Fold: return "fold";
-    case Guard::Quality: return "quality";
-  }
-  return "?";
+  static const char* const names[] = {"none", "fold", "quality"};
+  return enumName(g, names);
 }
 
 inline const char* toString(Algorithm a) {
-  switch (a) {
-    case Algorithm::Basic: return "basic";
-    case Algorithm::Feature: return "feature";
-    case Algorithm::Denoise: return "denoise";
-    case Algorithm::Odt: return "odt";
-    case Algorithm::Laplacian: return "laplacian";
-    case Algorithm::Filtered: return "filtered";
-  }
-  return "?";
+  static const char* const names[] = {"basic", "feature", "denoise", "odt", "laplacian", "filtered"};
+  return enumName(a, names);
 }
 
 /// Parses "none" | "fold" | "quality"; throws InvalidInput otherwise.
@@ -320,13 +308,8 @@ inline Algorithm algorithmFromString(const std::string& s) {
 }
 
 inline const char* toString(VertexClass c) {
-  switch (c) {
-    case VertexClass::Smooth: return "smooth";
-    case VertexClass::Crease: return "crease";
-    case VertexClass::Corner: return "corner";
-    case VertexClass::Fixed: return "fixed";
-  }
-  return "?";
+  static const char* const names[] = {"smooth", "crease", "corner", "fixed"};
+  return enumName(c, names);
 }
 
 // ---------------------------------------------------------------------------
