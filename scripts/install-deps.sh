@@ -18,6 +18,8 @@ PACKAGES=(
   # the command line of `sodt` (header-only CLI11) and its JSON reports
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev dpkg-dev
+  # the function-length check of the core (tests/scripts/function_length_test.sh)
+  universal-ctags
   # fuzzing and sanitizer builds (clang's libFuzzer runtime)
   clang libclang-rt-14-dev
   # GUI smoke tests: drive MeshLab's window, take a screenshot
