@@ -45,7 +45,7 @@ step() {
 step "installing the dependencies from Debian's archive (scripts/install-deps.sh; a few minutes the first time, seconds after)"
 "${SUDO[@]}" "$ROOT/scripts/install-deps.sh"
 
-step "building the sodt command (about 3-5 min on 2 cores from a fresh clone), then smoothing meshes/blobs_mc.ply"
+step "building the sodt command (about 3 min on 2 cores from a fresh clone), then smoothing meshes/blobs_mc.ply"
 # The tests, the benchmarks and the developer tools are left out here;
 # scripts/run-tests.sh switches them on again.
 cmake -S "$ROOT" -B "$BUILD" --log-level=WARNING -DCMAKE_BUILD_TYPE=Release \
@@ -57,7 +57,7 @@ echo "-- sodt smooth meshes/blobs_mc.ply (20 sweeps, guard quality) --"
 "$SODT" smooth "$MESH" "$OUT/blobs_mc_sodt.ply" --report "$OUT/blobs_mc_report.json"
 echo "output: $OUT/blobs_mc_sodt.ply, report: $OUT/blobs_mc_report.json"
 
-step "building the plugin for MeshLab 2020.09 (about 2-4 min), installing it and sodt (as root), smoothing the mesh in meshlabserver 2020.09"
+step "building the plugin for MeshLab 2020.09 (about 1-2 min), installing it and sodt (as root), smoothing the mesh in meshlabserver 2020.09"
 cmake --build "$BUILD" -j"$JOBS" --target filter_sodt
 "${SUDO[@]}" cmake --install "$BUILD"
 echo
@@ -76,7 +76,7 @@ else
 fi
 "$ROOT/scripts/build-meshlab-2025.sh" all
 
-step "building the plugin for the MeshLab 2025.07 GUI and for PyMeshLab 2025.7 (about 4-8 min), installing both"
+step "building the plugin for the MeshLab 2025.07 GUI and for PyMeshLab 2025.7 (about 2-4 min), installing both"
 cmake -S "$ROOT" -B "$BUILD" --log-level=WARNING -DSODT_MESHLAB2025_DIR="$ML2025"
 cmake --build "$BUILD" -j"$JOBS" --target filter_sodt_ml2025_gui filter_sodt_ml2025_pymeshlab
 # MeshLab 2025.07 loads extra plugins from the user's data folder (no root).
