@@ -260,10 +260,11 @@ int main(int argc, char** argv) {
   benchScalar<sodt::MeshF>("float", o, rows, nv, nf);
   benchScalar<sodt::MeshD>("double", o, rows, nv, nf);
 
+  // The file name alone: the output goes into bench/RESULTS.md as it is.
   const std::string name = o.mesh.substr(o.mesh.find_last_of('/') + 1);
   std::printf("mesh %s: V=%d F=%d; ms/sweep = time of one call doing %d sweeps / %d, median and min of %d calls; "
               "S-ODT threads: %d\n\n",
-              o.mesh.c_str(), nv, nf, o.sweeps, o.sweeps, o.repeats, o.threads);
+              name.c_str(), nv, nf, o.sweeps, o.sweeps, o.repeats, o.threads);
   std::printf("| mesh | V | F | scalar | method | ms/sweep (median) | ms/sweep (min) | ms for a 1-sweep call | notes |\n");
   std::printf("|---|---:|---:|---|---|---:|---:|---:|---|\n");
   for (const Row& r : rows)

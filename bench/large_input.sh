@@ -5,7 +5,7 @@
 # Not part of the test suite (it takes minutes and a few GB of RAM).
 #
 # Usage: bench/large_input.sh [--build DIR] [--work DIR] [--subdiv N | --frequency N]
-#                             [--iterations N] [--busy N] [--keep]
+#                             [--iterations N] [--busy N] [--keep] [--results FILE]
 #   --build DIR       build tree with cli/sodt and bench/sodt_make_big_sphere
 #                     (default: build/ next to this folder); both targets are
 #                     built there first if missing
@@ -19,6 +19,9 @@
 #   --busy N          keep N other processes spinning on the CPU during the
 #                     run, as on a shared machine (default 0)
 #   --keep            keep the work directory
+#   --results FILE    also write the results into FILE (bench/RESULTS.md), in
+#                     the section "large_input.sh subdiv N|frequency N
+#                     iterations N busy N" (bench/update_results.py)
 #
 # What runs:
 #   sodt_make_big_sphere BIG.ply --subdiv N  (or --frequency N)
@@ -39,6 +42,7 @@ FREQ=""
 BUSY=0
 ITER=5
 KEEP=0
+RESULTS=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) BUILD="$2"; shift 2 ;;
@@ -48,7 +52,8 @@ while [ $# -gt 0 ]; do
     --busy) BUSY="$2"; shift 2 ;;
     --iterations) ITER="$2"; shift 2 ;;
     --keep) KEEP=1; shift ;;
-    -h|--help) sed -n '3,33p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --results) RESULTS="$2"; shift 2 ;;
+    -h|--help) sed -n '3,36p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -87,8 +92,10 @@ mb() { awk -v b="$1" 'BEGIN { printf "%.1f MB", b / 1e6 }'; }
 
 MEM_TOTAL_KB="$(awk '/^MemTotal:/ { print $2 }' /proc/meminfo)"
 MEM_AVAIL_KB="$(awk '/^MemAvailable:/ { print $2 }' /proc/meminfo)"
-echo "machine: $(nproc) cores, $(awk -v k="$MEM_TOTAL_KB" 'BEGIN { printf "%.1f GB", k / 1048576 }') RAM" \
-     "($(awk -v k="$MEM_AVAIL_KB" 'BEGIN { printf "%.1f GB", k / 1048576 }') available), swap $(awk '/^SwapTotal:/ { print $2 }' /proc/meminfo) kB"
+MACHINE="machine: $(nproc) cores, $(awk -v k="$MEM_TOTAL_KB" 'BEGIN { printf "%.1f GB", k / 1048576 }') RAM"
+MACHINE+=" ($(awk -v k="$MEM_AVAIL_KB" 'BEGIN { printf "%.1f GB", k / 1048576 }') available), swap $(awk '/^SwapTotal:/ { print $2 }' /proc/meminfo) kB;"
+MACHINE+=" load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "$MACHINE"
 echo "work directory: $WORK"
 
 # 1. The input.
@@ -200,31 +207,50 @@ fi
 OUT_BYTES="$(stat -c %s "$OUT")"
 V="$(json vertices)" F="$(json faces)"
 
+# result NAME VALUE: one line of the results, printed and kept for --results.
+RESULT_ROWS=()
+result() {
+  printf '  %-22s %s\n' "$1" "$2"
+  RESULT_ROWS+=("| $1 | $2 |")
+}
 echo
 echo "== large input: results =="
-printf '  %-22s %s\n' "input" "$V vertices, $F faces ($SHAPE, jittered, closed)"
-[ "$BUSY" -gt 0 ] && printf '  %-22s %s\n' "busy loops" "$BUSY beside the run"
-printf '  %-22s %s\n' "BIG.ply" "$(mb "$BIG_BYTES") ($BIG_BYTES bytes, binary PLY), generated in ${GEN_S} s"
-printf '  %-22s %s\n' "OUT.ply" "$(mb "$OUT_BYTES") ($OUT_BYTES bytes)"
-printf '  %-22s %s\n' "load" "$(span "$t_load" "$t_meas") s"
-printf '  %-22s %s\n' "measure input + copy" "$(span "$t_meas" "$t_sweep") s"
-printf '  %-22s %s\n' "smooth ($ITER sweeps)" "$(span "$t_sweep" "$t_after") s (CLI's own figure: $(json seconds) s)"
-printf '  %-22s %s\n' "measure output" "$(span "$t_after" "$t_write") s (angles, Hausdorff, inverted faces)"
-printf '  %-22s %s\n' "write OUT + report" "$(span "$t_write" "$t_end") s"
-printf '  %-22s %s\n' "total" "$WALL_S s wall (GNU time: $ELAPSED, user $USER_S s, sys $SYS_S s)"
-printf '  %-22s %s\n' "min angle" "$(json min_angle_before) -> $(json min_angle_after) deg"
-printf '  %-22s %s\n' "Hausdorff (rel.)" "$(json hausdorff_rel); inverted faces $(json inverted_faces)"
+result "input" "$V vertices, $F faces ($SHAPE, jittered, closed)"
+[ "$BUSY" -gt 0 ] && result "busy loops" "$BUSY beside the run"
+result "BIG.ply" "$(mb "$BIG_BYTES") ($BIG_BYTES bytes, binary PLY), generated in ${GEN_S} s"
+result "OUT.ply" "$(mb "$OUT_BYTES") ($OUT_BYTES bytes)"
+result "load" "$(span "$t_load" "$t_meas") s"
+result "measure input + copy" "$(span "$t_meas" "$t_sweep") s"
+result "smooth ($ITER sweeps)" "$(span "$t_sweep" "$t_after") s (CLI's own figure: $(json seconds) s)"
+result "measure output" "$(span "$t_after" "$t_write") s (angles, Hausdorff, inverted faces)"
+result "write OUT + report" "$(span "$t_write" "$t_end") s"
+result "total" "$WALL_S s wall (GNU time: $ELAPSED, user $USER_S s, sys $SYS_S s)"
+result "min angle" "$(json min_angle_before) -> $(json min_angle_after) deg"
+result "Hausdorff (rel.)" "$(json hausdorff_rel); inverted faces $(json inverted_faces)"
 if [ -n "$PEAK_KB" ]; then
   PCT="$(awk -v p="$PEAK_KB" -v t="$MEM_TOTAL_KB" 'BEGIN { printf "%.1f", 100 * p / t }')"
-  printf '  %-22s %s\n' "peak RSS" "$(awk -v k="$PEAK_KB" 'BEGIN { printf "%.2f GB", k / 1048576 }') ($PEAK_KB kB, $PCT% of RAM); major page faults $MAJFLT"
-  printf '  %-22s %s\n' "bytes per face" "$(awk -v k="$PEAK_KB" -v f="$F" 'BEGIN { printf "%.0f", k * 1024 / f }') (peak RSS / faces)"
+  result "peak RSS" "$(awk -v k="$PEAK_KB" 'BEGIN { printf "%.2f GB", k / 1048576 }') ($PEAK_KB kB, $PCT% of RAM); major page faults $MAJFLT"
+  result "bytes per face" "$(awk -v k="$PEAK_KB" -v f="$F" 'BEGIN { printf "%.0f", k * 1024 / f }') (peak RSS / faces)"
   if [ "$PEAK_KB" -lt "$MEM_AVAIL_KB" ] && { [ "$MAJFLT" = n/a ] || [ "$MAJFLT" -lt 1000 ]; }; then
     FIT="yes"
   else
     FIT="NO (peak RSS near or above the available memory, or heavy paging)"
   fi
-  printf '  %-22s %s\n' "fits in memory" "$FIT (available before the run: $(awk -v k="$MEM_AVAIL_KB" 'BEGIN { printf "%.1f GB", k / 1048576 }'))"
+  result "fits in memory" "$FIT (available before the run: $(awk -v k="$MEM_AVAIL_KB" 'BEGIN { printf "%.1f GB", k / 1048576 }'))"
 else
-  printf '  %-22s %s\n' "peak RSS" "n/a (install GNU time: apt-get install time)"
+  result "peak RSS" "n/a (install GNU time: apt-get install time)"
 fi
-printf '  %-22s %s\n' "progress updates seen" "$(grep -c 'S-ODT sweep' "$TTY") sweep updates on the terminal"
+result "progress updates seen" "$(grep -c 'S-ODT sweep' "$TTY") sweep updates on the terminal"
+if [ -n "$RESULTS" ]; then
+  CONFIG=(--subdiv "$SUBDIV")
+  [ -n "$FREQ" ] && CONFIG=(--frequency "$FREQ")
+  CONFIG+=(--iterations "$ITER" --busy "$BUSY")
+  {
+    echo "$MACHINE"
+    echo
+    echo "| phase or measure | value |"
+    echo "|---|---|"
+    printf '%s\n' "${RESULT_ROWS[@]}"
+  } | "$HERE/update_results.py" --results "$RESULTS" --section "large_input.sh ${CONFIG[*]//--/}" \
+    --command "bench/large_input.sh ${CONFIG[*]}" || die "could not update $RESULTS"
+fi

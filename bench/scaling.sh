@@ -5,7 +5,7 @@
 # memory of the loaded mesh alone. The target is peak <= 2.5 x loaded mesh.
 #
 # Usage: bench/scaling.sh [--build DIR] [--work DIR] [--size SIZE]
-#                         [--iterations N] [--threads T] [--keep]
+#                         [--iterations N] [--threads T] [--keep] [--results FILE]
 #   --build DIR       build tree with cli/sodt and bench/sodt_bench_scaling
 #                     (default: build/ next to this folder); both are built
 #                     there first (-j1) if missing
@@ -16,6 +16,9 @@
 #   --threads T       SodtParams::threads of the --smooth-only run (default:
 #                     the library default); the CLI run uses the CLI default
 #   --keep            keep the work directory
+#   --results FILE    also write the summary into FILE (bench/RESULTS.md), in
+#                     the section "scaling.sh size SIZE iterations N [threads T]"
+#                     (bench/update_results.py)
 #
 # What runs, one process at a time, each under GNU time (/usr/bin/time -v):
 #   1. sodt_bench_scaling --write-mesh SIZE IN.ply   (binary PLY, float)
@@ -43,6 +46,7 @@ SIZE=4M
 ITER=5
 THREADS=""
 KEEP=0
+RESULTS=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) BUILD="$2"; shift 2 ;;
@@ -51,7 +55,8 @@ while [ $# -gt 0 ]; do
     --iterations) ITER="$2"; shift 2 ;;
     --threads) THREADS="$2"; shift 2 ;;
     --keep) KEEP=1; shift ;;
-    -h|--help) sed -n '3,36p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --results) RESULTS="$2"; shift 2 ;;
+    -h|--help) sed -n '3,39p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -98,7 +103,8 @@ mb() { awk -v k="$1" 'BEGIN { printf "%.0f", k / 1024 }'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", a / b }'; }
 
 MEM_TOTAL_KB="$(awk '/^MemTotal:/ { print $2 }' /proc/meminfo)"
-echo "machine: $(nproc) cores, $(mb "$MEM_TOTAL_KB") MB RAM; load average $(cut -d' ' -f1-3 /proc/loadavg)"
+MACHINE="machine: $(nproc) cores, $(mb "$MEM_TOTAL_KB") MB RAM; load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "$MACHINE"
 echo "work directory: $WORK"
 
 timed write "$BENCH" --write-mesh "$SIZE" "$IN"
@@ -117,35 +123,49 @@ SMOOTH_ARGS=(--smooth-only "$IN" "$WORK/OUT_core.ply" --sweeps "$ITER")
 timed core "$BENCH" "${SMOOTH_ARGS[@]}"
 
 LOAD_KB="$(peak_kb load)"
+# The summary: printed, and written into the results file with --results.
+report() {
+  echo "$MACHINE"
+  echo
+  echo "peak memory, $(value load vertices) vertices, $(value load faces) faces, $ITER sweeps"
+  echo
+  echo "loaded mesh alone: peak RSS $(mb "$LOAD_KB") MB (load-only process); RSS after loading" \
+       "$(mb "$(value load rss_kb)") MB; vertex + face vectors $(mb "$(value load mesh_vectors_kb)") MB" \
+       "(sodt::MeshD); loading took $(value load load_seconds) s"
+  echo
+  echo "| run | peak RSS (MB) | peak / loaded mesh | wall (s) |"
+  echo "|---|---:|---:|---:|"
+  echo "| load only (sodt_bench_scaling --load-only) | $(mb "$LOAD_KB") | 1.00 | $(wall_s load) |"
+  echo "| sodt smooth --iterations $ITER (measures input and output) | $(mb "$(peak_kb cli)") | $(ratio "$(peak_kb cli)" "$LOAD_KB") | $(wall_s cli) |"
+  if [ -n "$SKIP_OPT" ]; then
+    echo "| sodt smooth --iterations $ITER $SKIP_OPT | $(mb "$(peak_kb cli_skip)") | $(ratio "$(peak_kb cli_skip)" "$LOAD_KB") | $(wall_s cli_skip) |"
+  else
+    echo "| sodt smooth --distance off | n/a: \`sodt smooth --help\` lists no --distance | | |"
+  fi
+  # GNU time reads the kernel's peak, which --smooth-only resets between its
+  # phases: the process's own peak_rss_kb (the largest phase peak) is the peak.
+  CORE_KB="$(awk -v a="$(peak_kb core)" -v b="$(value core peak_rss_kb)" 'BEGIN { print (b + 0 > a + 0) ? b : a }')"
+  echo "| load + Apply + save, no measurements (sodt_bench_scaling --smooth-only) | $(mb "$CORE_KB") | $(ratio "$CORE_KB" "$LOAD_KB") | $(wall_s core) |"
+  echo
+  SMOOTH_PEAK="$(value core smooth_peak_rss_kb)"
+  if [ -n "$SMOOTH_PEAK" ]; then
+    echo "phases of the --smooth-only run (peak RSS of each, the loaded mesh included):" \
+         "load $(mb "$(value core load_peak_rss_kb)") MB, Apply $(mb "$SMOOTH_PEAK") MB ($(value core smooth_seconds) s)," \
+         "save $(mb "$(value core save_peak_rss_kb)") MB ($(value core save_seconds) s; the save reads the file back, positions and triangles only)"
+    echo
+  fi
+  CLI_RATIO="$(ratio "$(peak_kb cli)" "$LOAD_KB")"
+  if awk -v r="$CLI_RATIO" 'BEGIN { exit !(r <= 2.5) }'; then
+    echo "target peak <= 2.5 x loaded mesh: met by sodt smooth ($CLI_RATIO x)"
+  else
+    echo "target peak <= 2.5 x loaded mesh: NOT met by sodt smooth ($CLI_RATIO x)"
+  fi
+}
 echo
-echo "== peak memory, $(value load vertices) vertices, $(value load faces) faces, $ITER sweeps =="
-echo "loaded mesh alone: peak RSS $(mb "$LOAD_KB") MB (load-only process); RSS after loading" \
-     "$(mb "$(value load rss_kb)") MB; vertex + face vectors $(mb "$(value load mesh_vectors_kb)") MB" \
-     "(sodt::MeshD); loading took $(value load load_seconds) s"
-echo
-echo "| run | peak RSS (MB) | peak / loaded mesh | wall (s) |"
-echo "|---|---:|---:|---:|"
-echo "| load only (sodt_bench_scaling --load-only) | $(mb "$LOAD_KB") | 1.00 | $(wall_s load) |"
-echo "| sodt smooth --iterations $ITER (measures input and output) | $(mb "$(peak_kb cli)") | $(ratio "$(peak_kb cli)" "$LOAD_KB") | $(wall_s cli) |"
-if [ -n "$SKIP_OPT" ]; then
-  echo "| sodt smooth --iterations $ITER $SKIP_OPT | $(mb "$(peak_kb cli_skip)") | $(ratio "$(peak_kb cli_skip)" "$LOAD_KB") | $(wall_s cli_skip) |"
-else
-  echo "| sodt smooth --distance off | n/a: \`sodt smooth --help\` lists no --distance | | |"
-fi
-# GNU time reads the kernel's peak, which --smooth-only resets between its
-# phases: the process's own peak_rss_kb (the largest phase peak) is the peak.
-CORE_KB="$(awk -v a="$(peak_kb core)" -v b="$(value core peak_rss_kb)" 'BEGIN { print (b + 0 > a + 0) ? b : a }')"
-echo "| load + Apply + save, no measurements (sodt_bench_scaling --smooth-only) | $(mb "$CORE_KB") | $(ratio "$CORE_KB" "$LOAD_KB") | $(wall_s core) |"
-echo
-SMOOTH_PEAK="$(value core smooth_peak_rss_kb)"
-if [ -n "$SMOOTH_PEAK" ]; then
-  echo "phases of the --smooth-only run (peak RSS of each, the loaded mesh included):" \
-       "load $(mb "$(value core load_peak_rss_kb)") MB, Apply $(mb "$SMOOTH_PEAK") MB ($(value core smooth_seconds) s)," \
-       "save $(mb "$(value core save_peak_rss_kb)") MB ($(value core save_seconds) s; the save reads the file back, positions and triangles only)"
-fi
-CLI_RATIO="$(ratio "$(peak_kb cli)" "$LOAD_KB")"
-if awk -v r="$CLI_RATIO" 'BEGIN { exit !(r <= 2.5) }'; then
-  echo "target peak <= 2.5 x loaded mesh: met by sodt smooth ($CLI_RATIO x)"
-else
-  echo "target peak <= 2.5 x loaded mesh: NOT met by sodt smooth ($CLI_RATIO x)"
+report | tee "$WORK/report.md"
+if [ -n "$RESULTS" ]; then
+  NAME="scaling.sh size $SIZE iterations $ITER${THREADS:+ threads $THREADS}"
+  "$HERE/update_results.py" --results "$RESULTS" --section "$NAME" \
+    --command "bench/scaling.sh --size $SIZE --iterations $ITER${THREADS:+ --threads $THREADS}" <"$WORK/report.md" \
+    || die "could not update $RESULTS"
 fi
