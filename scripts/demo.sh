@@ -72,7 +72,7 @@ ML2025="$("$ROOT/scripts/build-meshlab-2025.sh" --print-dir)"
 if [ -f "$ML2025/gui/.done" ] && [ -f "$ML2025/pymeshlab/.done" ]; then
   step "MeshLab 2025.07 and PyMeshLab 2025.7: already built in $ML2025"
 else
-  step "building MeshLab 2025.07 and PyMeshLab 2025.7 once per machine (30-60 min on 2 cores), cached in $ML2025"
+  step "building MeshLab 2025.07 and PyMeshLab 2025.7 once per machine (10-30 min on 2 cores, longer when they are busy), cached in $ML2025"
 fi
 "$ROOT/scripts/build-meshlab-2025.sh" all
 
