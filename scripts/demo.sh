@@ -76,7 +76,7 @@ else
 fi
 "$ROOT/scripts/build-meshlab-2025.sh" all
 
-step "building the plugin for the MeshLab 2025.07 GUI and for PyMeshLab 2025.7 (about 2-4 min), installing both"
+step "building the plugin for the MeshLab 2025.07 GUI and for PyMeshLab 2025.7 (about 3-5 min), installing both"
 cmake -S "$ROOT" -B "$BUILD" --log-level=WARNING -DSODT_MESHLAB2025_DIR="$ML2025"
 cmake --build "$BUILD" -j"$JOBS" --target filter_sodt_ml2025_gui filter_sodt_ml2025_pymeshlab
 # MeshLab 2025.07 loads extra plugins from the user's data folder (no root).
