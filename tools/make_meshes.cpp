@@ -150,7 +150,8 @@ void flipAllFaces(MeshF& m) {
     if (!f.IsD()) std::swap(f.V(1), f.V(2));
 }
 
-bool buildBlobs(MeshF& m) {
+/// The blob surface by marching cubes on a grid of the given spacing.
+bool buildBlobsAt(MeshF& m, double voxel) {
   using Volume = vcg::SimpleVolume<vcg::SimpleVoxel<float>>;
   using Walker = vcg::tri::TrivialWalker<MeshF, Volume>;
   using MarchingCubes = vcg::tri::MarchingCubes<MeshF, Walker>;
@@ -165,13 +166,13 @@ bool buildBlobs(MeshF& m) {
   }
   // TrivialWalker never visits the cells next to the high faces of the grid,
   // so keep a margin of empty voxels on every side.
-  box.Offset(3 * kBlobVoxel);
+  box.Offset(3 * voxel);
   vcg::Point3i size;
-  for (int k = 0; k < 3; ++k) size[k] = static_cast<int>(std::ceil(box.Dim()[k] / kBlobVoxel)) + 1;
+  for (int k = 0; k < 3; ++k) size[k] = static_cast<int>(std::ceil(box.Dim()[k] / voxel)) + 1;
   // BasicGrid spaces samples by (max-min)/size; choose max so the spacing is exact.
   const vcg::Point3f lo = toCoordF(box.min);
-  const vcg::Point3f hi(lo[0] + float(size[0] * kBlobVoxel), lo[1] + float(size[1] * kBlobVoxel),
-                        lo[2] + float(size[2] * kBlobVoxel));
+  const vcg::Point3f hi(lo[0] + float(size[0] * voxel), lo[1] + float(size[1] * voxel),
+                        lo[2] + float(size[2] * voxel));
   Volume volume;
   volume.Init(size, vcg::Box3f(lo, hi));
   for (int z = 0; z < size[2]; ++z)
@@ -194,6 +195,8 @@ bool buildBlobs(MeshF& m) {
   if (vol.volume < 0) flipAllFaces(m);
   return true;
 }
+
+bool buildBlobs(MeshF& m) { return buildBlobsAt(m, kBlobVoxel); }
 
 // ---------------------------------------------------------------------------
 // sphere_jitter.ply: icosphere with tangentially jittered vertices.
@@ -716,6 +719,31 @@ int writeValenceMesh(const std::string& kind, long n, const std::string& path) {
   return 0;
 }
 
+/// blobs_mc.ply's surface on a grid `factor` times finer (about 4800 factor^2
+/// vertices: 5.4 gives 139,558), a large marching-cubes mesh for the
+/// benchmarks; checked like blobs_mc.ply but for its size.
+int writeFineBlobs(double factor, const std::string& path) {
+  if (!(factor >= 1 && factor <= 64)) {
+    std::fprintf(stderr, "error: --mc-resolution needs 1 <= FACTOR <= 64\n");
+    return 2;
+  }
+  MeshF m;
+  if (!buildBlobsAt(m, kBlobVoxel / factor)) {
+    std::fprintf(stderr, "error: marching cubes surface not closed\n");
+    return 1;
+  }
+  vcg::tri::UpdateBounding<MeshF>::Box(m);
+  if (!saveMesh(m, path)) return 1;
+  const MeshCheck c = sodt::tools::checkMesh(m);
+  std::printf("%s\n%s\n", sodt::tools::tableHeader(), sodt::tools::formatRow(path, c).c_str());
+  const bool clean = c.isolatedVertices == 0 && c.zeroAreaFaces == 0 && c.components == 1;
+  return expect(path, {{c.closedManifold(), "closed manifold"},
+                       {clean, "no isolated vertex, no zero-area face, one component"},
+                       {c.volume > 0, "outward normals (positive volume)"}})
+             ? 0
+             : 1;
+}
+
 void usage() {
   std::fprintf(stderr,
                "usage: sodt_make_meshes OUTDIR          write the project's test meshes into OUTDIR\n"
@@ -723,7 +751,10 @@ void usage() {
                "       sodt_make_meshes --valence fan|polygon N OUT.off\n"
                "       sodt_make_meshes --valence torus N OUT.off\n"
                "                                        a closed double fan over a rim of N vertices, an N-gon,\n"
-               "                                        or a 100 x N/100 torus with as many faces as the fan\n");
+               "                                        or a 100 x N/100 torus with as many faces as the fan\n"
+               "       sodt_make_meshes --mc-resolution FACTOR OUT.ply\n"
+               "                                        blobs_mc.ply's surface on a grid FACTOR times finer\n"
+               "                                        (about 4800 FACTOR^2 vertices; 5.4 gives 139,558)\n");
 }
 
 }  // namespace
@@ -741,6 +772,13 @@ int main(int argc, char** argv) {
       return 2;
     }
     return writeValenceMesh(argv[2], std::atol(argv[3]), argv[4]);
+  }
+  if (first == "--mc-resolution") {
+    if (argc != 4) {
+      usage();
+      return 2;
+    }
+    return writeFineBlobs(std::atof(argv[2]), argv[3]);
   }
   if (first == "-h" || first == "--help") {
     usage();
