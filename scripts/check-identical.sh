@@ -50,7 +50,9 @@ EOF
 digests() {  # $1 = sodt binary; prints "run file digest" lines
   local bin="$1" work
   work="$(mktemp -d)"
-  trap 'rm -rf "$work"' RETURN
+  # Cleared as it fires: a RETURN trap set in a function stays set after it,
+  # and would fire again on the caller's return, with work out of scope.
+  trap 'rm -rf "$work"; trap - RETURN' RETURN
   local meshes=("$root"/meshes/*.ply "$root"/meshes/*.off "$root"/meshes/*.obj "$root"/meshes/*.stl)
   local small=("${meshes[@]}")
   if [ -d "$shared" ]; then
