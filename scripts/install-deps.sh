@@ -33,6 +33,9 @@ PACKAGES=(
   # examples to STL; the other meshes come from .deb files that fetch.sh
   # downloads with `apt-get download` without installing them
   openscad
+  # bench/openmesh_compare.cpp: the default sweep against OpenMesh's
+  # tangential Laplacian (built only when OpenMesh is found)
+  libopenmesh-dev
 )
 
 if [ "$(id -u)" -eq 0 ] || [ "${SODT_APT_SOURCES_ONLY:-0}" = 1 ]; then
