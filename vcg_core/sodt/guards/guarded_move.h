@@ -123,6 +123,7 @@ struct VisitScratch {
   std::vector<double>& ringEdge2;
   int* hints;      ///< per star triangle, an input face to try first (see InputSurface::keeps), or null
   int& pointHint;  ///< the input face the vertex was last found near
+  CoverScratch* cover;  ///< what the cover measured for the accepted step (see CoverScratch), or null
 };
 
 /// The guarded visit for a mesh that stores coordinates as Scalar.
@@ -231,7 +232,7 @@ struct GuardedMove {
         if (c.input && !c.input->keeps(i, star, y[l], s.hints, s.pointHint, (y[l] - star.center).Norm() + budget.eps,
                                        budget.drift, budget.last, budget.next, budget.queried, budget.reused))
           continue;
-        if (c.cover && !c.cover->coveredAfterMove(i, y[l])) continue;
+        if (c.cover && !c.cover->coveredAfterMove(i, y[l], s.cover)) continue;
         x = y[l];
         return yj[l];
       }

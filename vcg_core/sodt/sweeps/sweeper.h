@@ -199,6 +199,7 @@ class Sweeper {
     long long laneVisits = 0;
     std::vector<double> drift;  ///< see Budget
     std::vector<float> nextSlot;
+    CoverScratch cover;
     lanes::Prepared prepared;  ///< of the lane group being visited
     char padBack[64];
     /// Sized up front so that no visit allocates (allocation inside a
@@ -210,6 +211,7 @@ class Sweeper {
       ringEdge2.reserve(valence);
       drift.reserve(valence);
       nextSlot.reserve(valence);
+      cover.reserve(16 * static_cast<std::size_t>(valence) + 64);
     }
   };
 
@@ -460,13 +462,13 @@ class Sweeper {
     Budget budget;
     if (deviationGuard_) prepareBudget(i, sc, budget);
     const Vec3 from = pos_[i];
-    const VisitScratch vs{sc.foldRef, sc.ringEdge2, hints, pointHint_[i]};
+    const VisitScratch vs{sc.foldRef, sc.ringEdge2, hints, pointHint_[i], ctx_.cover ? &sc.cover : nullptr};
     const Outcome o = Move::visit(ctx_, i, star, vs, budget, pos_[i], given, full);
     sc.queried += budget.queried;
     sc.reused += budget.reused;
     record(i, o, phaseNo, sc);
     if (moves(o) && deviationGuard_ && tuning_.reuseDeviationMargins) commitMargins(i, from, budget);
-    if (moves(o) && ctx_.cover) ctx_.cover->commitMove(i, from, pos_[i]);
+    if (moves(o) && ctx_.cover) ctx_.cover->commitMove(i, from, pos_[i], &sc.cover);
     return true;
   }
 
@@ -481,13 +483,13 @@ class Sweeper {
     long long reused = 0;  // counted only when the move is taken here
     if (!ctx_.input->keepsByMargins(i, sc.drift.size(), step, budget.drift, budget.last, budget.next, reused))
       return false;
-    if (ctx_.cover && !ctx_.cover->coveredAfterMove(i, y)) return false;  // the full visit refuses it
+    if (ctx_.cover && !ctx_.cover->coveredAfterMove(i, y, &sc.cover)) return false;  // the full visit refuses it
     sc.reused += reused;
     const Vec3 from = pos_[i];
     pos_[i] = y;
     record(i, Outcome::Moved, phaseNo, sc);
     commitMargins(i, from, budget);
-    if (ctx_.cover) ctx_.cover->commitMove(i, from, y);
+    if (ctx_.cover) ctx_.cover->commitMove(i, from, y, &sc.cover);
     return true;
   }
 
