@@ -374,6 +374,14 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
     f["steps"] = st.filter.steps;
     f["noise_level"] = number(st.filter.noiseEdges);
     f["noise_estimated"] = st.filter.noiseEstimated;
+    if (st.filter.passedOver != sodt::FilterKind::None) {
+      Json passed;
+      passed["kind"] = sodt::toString(st.filter.passedOver);
+      passed["steps"] = st.filter.passedOverSteps;
+      f["passed_over"] = passed;
+    } else {
+      f["passed_over"] = nullptr;
+    }
     f["risk"] = number(st.filter.risk);
     f["risk_unfiltered"] = number(st.filter.riskNone);
     f["restored_vertices"] = st.restoredVertices;

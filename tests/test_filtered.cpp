@@ -195,6 +195,19 @@ TEST(Filtered, BorderVerticesStayAndAFlatGridStaysFlat) {
   EXPECT_LT(rmsHeight(m), 0.6 * rmsHeight(ref));  // the border keeps its noise
 }
 
+TEST(Filtered, ABoxTooSmallToEstimateItsNoiseKeepsItsShape) {
+  // A 12-triangle box: its noise cannot be estimated, so no filter runs,
+  // and the sweeps find every vertex a corner (a fixed filter took 99% of
+  // its volume and made them all smooth).
+  sodt::MeshD box;
+  sodt_test::makeCube(box, 1);
+  const auto before = sodt_test::positions(box);
+  const sodt::SodtStats st = runFiltered(box);
+  EXPECT_EQ(st.filter.kind, sodt::FilterKind::None);
+  EXPECT_EQ(st.cornerVertices, 8);
+  EXPECT_EQ(sodt_test::positions(box), before);
+}
+
 TEST(Filtered, RangeSigmaFollowsTheFeatureAngle) {
   // The normal filter's sigmas come from the mesh and the feature angle alone.
   sodt::MeshD m;
@@ -534,6 +547,39 @@ TEST(FilterSelect, LeavesACleanMeshOrOneWithLittleNoiseGivenAsItIs) {
   EXPECT_EQ(positions(sphere), noisy);
   // Told the true level, it filters.
   EXPECT_NE(firstStage(sphere, 0.3).kind, sodt::FilterKind::None);
+}
+
+TEST(FilterSelect, NoFilterWhenTheNoiseLevelIsUnknown) {
+  // A 12-triangle box has too few vertices to estimate its noise from: a
+  // filter would only guess, and the normal filter rounds it once ran
+  // then took 99% of its volume.
+  sodt::MeshD box;
+  sodt_test::makeCube(box, 1);
+  const std::vector<sodt::Vec3> before = positions(box);
+  const sodt::FilterChoice c = firstStage(box);
+  EXPECT_EQ(c.kind, sodt::FilterKind::None) << sodt::describe(c);
+  EXPECT_TRUE(std::isnan(c.noiseEdges));
+  EXPECT_TRUE(std::isnan(c.risk));
+  EXPECT_EQ(positions(box), before);
+  EXPECT_NE(sodt::describe(c).find("could not be estimated"), std::string::npos) << sodt::describe(c);
+}
+
+TEST(FilterSelect, AFilterThatBarelyBeatsNoneIsNotApplied) {
+  // Told a noise level of 0.2 edges where it is 0.3, the best filter (five
+  // Taubin step pairs) scores 0.74 of no filter: too little to trust an
+  // estimate with, so the input stays, and the report names the filter.
+  sodt::MeshD sphere;
+  sodt_test::makeSphere(sphere, 4);
+  addNormalNoise(sphere, 0.3, 4);
+  const std::vector<sodt::Vec3> noisy = positions(sphere);
+  const sodt::FilterChoice c = firstStage(sphere, 0.2);
+  EXPECT_EQ(c.kind, sodt::FilterKind::None) << sodt::describe(c);
+  EXPECT_NE(c.passedOver, sodt::FilterKind::None);
+  EXPECT_GT(c.passedOverSteps, 0);
+  EXPECT_GT(c.risk, sodt::kSureMargin * c.riskNone);
+  EXPECT_LT(c.risk, c.riskNone);
+  EXPECT_EQ(positions(sphere), noisy);
+  EXPECT_NE(sodt::describe(c).find("not below"), std::string::npos) << sodt::describe(c);
 }
 
 TEST(FilterSelect, SameChoiceAndResultForEveryThreadCount) {

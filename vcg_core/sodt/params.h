@@ -202,15 +202,21 @@ inline const char* toString(FilterKind k) {
 
 /// What filtered's first stage chose, and from what: the filter and its
 /// length with the smallest estimated mean squared error along the
-/// normals, in squared mean edges (Stein's unbiased risk estimate, NaN
-/// when no estimate could be made and the fallback ran).
+/// normals, in squared mean edges (Stein's unbiased risk estimate), when
+/// that is at most kSureMargin of no filter's (filter_select.h).
 struct FilterChoice {
   FilterKind kind = FilterKind::None;
   int steps = 0;                ///< rounds (Normals) or step pairs (Taubin)
-  double noiseEdges = 0;        ///< the noise level used, in mean edges
+  double noiseEdges = 0;        ///< the noise level used, in mean edges (NaN: it could not be estimated)
   bool noiseEstimated = false;  ///< from estimateNoise, not the noiseLevel parameter
-  double risk = 0;              ///< of the choice
-  double riskNone = 0;          ///< of leaving the input as it is
+  /// The filter and length that scored best without beating no filter by
+  /// the margin, so none ran (kind is None); None otherwise.
+  FilterKind passedOver = FilterKind::None;
+  int passedOverSteps = 0;
+  /// Of the choice, or of passedOver when set; NaN when nothing was scored
+  /// (the noise level is 0 or unknown).
+  double risk = 0;
+  double riskNone = 0;          ///< of leaving the input as it is (NaN when nothing was scored)
 };
 
 /// Counters of one run; every vertex visit ends in exactly one of
