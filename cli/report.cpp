@@ -292,8 +292,8 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
     std::printf("  border         %d vertices slide along the border (%d of them moved), %d corners of the border "
                 "fixed\n", st.slidingBoundary, st.movedBoundary, st.boundaryCorners);
   if (st.reorientedFaces > 0)
-    std::printf("  winding        %d faces turned over so that each part of the mesh has one winding "
-                "(written so)\n", st.reorientedFaces);
+    std::printf("  winding        %d faces turned over so that each part of the mesh has one winding, "
+                "outward on closed parts (written so)\n", st.reorientedFaces);
   std::printf("  classes        %s%s\n", classCountsText(r.classes).c_str(),
               o.params.algorithm == sodt::Algorithm::Basic ? " (basic does not classify)" : "");
   std::printf("  smoothing      %.3f s for %d sweeps on %d thread%s (algorithm %s, guard %s, max backtracks %d)\n",

@@ -1810,6 +1810,57 @@ TEST(CliWinding, MixedWindingIsMadeCoherentAndReported) {
   EXPECT_GT(jsonNumber(st.out, "volume"), 4.0);  // the unit sphere's 4.19, not a mix
 }
 
+TEST(CliWinding, ClosedMeshWithMostFacesTurnedComesOutOutward) {
+  // 60% of a closed sphere's faces turned over: made coherent by their
+  // majority it came out inside out; a closed part is made to face out.
+  TempDir dir;
+  SimpleMesh m = jitteredSphere(3, 0.4, 5);
+  int turned = 0;
+  for (int f = 0; f < m.faces(); ++f)
+    if (f % 5 < 3) {
+      std::swap(m.tri[3 * f + 1], m.tri[3 * f + 2]);
+      ++turned;
+    }
+  writeFile(dir / "mixed.off", toOff(m));
+  const RunResult r = runSodt(
+      {"smooth", dir / "mixed.off", dir / "out.off", "--iterations", "0", "--report", dir / "r.json"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(jsonNumber(readFile(dir / "r.json"), "reoriented_faces"), turned);
+  EXPECT_NE(r.out.find(std::to_string(turned) + " faces turned over"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("outward on closed parts"), std::string::npos) << r.out;
+  const RunResult st = runSodt({"stats", dir / "out.off"}, dir);
+  EXPECT_GT(jsonNumber(st.out, "volume"), 4.0) << st.out;  // the unit sphere's 4.19
+}
+
+TEST(CliWinding, DuplicatedFacesAreNotTurnedOver) {
+  // An open grid with every face given twice, the same way round: with
+  // --iterations 0 the file comes back as it was (30 of 256 faces were
+  // turned over).
+  TempDir dir;
+  SimpleMesh m;
+  const int n = 9;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) m.xyz.insert(m.xyz.end(), {x / 8.0, y / 8.0, 0.0});
+  for (int copy = 0; copy < 2; ++copy)
+    for (int y = 0; y + 1 < n; ++y)
+      for (int x = 0; x + 1 < n; ++x) {
+        const int a = y * n + x, b = a + 1, c = a + n, d = c + 1;
+        m.tri.insert(m.tri.end(), {a, b, d, a, d, c});
+      }
+  writeFile(dir / "dup.off", toOff(m));
+  const RunResult r = runSodt(
+      {"smooth", dir / "dup.off", dir / "out.off", "--iterations", "0", "--report", dir / "r.json"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(jsonNumber(readFile(dir / "r.json"), "reoriented_faces"), 0);
+  EXPECT_EQ(r.out.find("turned over so"), std::string::npos) << r.out;
+  sodt::MeshD out;
+  sodt::loadMesh(dir / "out.off", out);
+  ASSERT_EQ(out.fn, m.faces());
+  for (int f = 0; f < m.faces(); ++f)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(out.face[f].cV(k) - &out.vert[0], m.tri[3 * f + k]) << "face " << f;
+}
+
 TEST(CliWinding, VerticesLeftFixedByNonManifoldFacesAreWarnedAbout) {
   TempDir dir;
   SimpleMesh m = jitteredSphere(2, 0.3, 5);
