@@ -31,6 +31,10 @@ Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
 /// The document as the reports are written: two-space indent, a final newline.
 std::string text(const Json& j) { return j.dump(2) + "\n"; }
 
+/// `sodt stats` estimates the noise of this many components (those with the
+/// most faces) on their own.
+constexpr int kNoiseComponentsListed = 16;
+
 /// The deviation bound, in percent in the summary and the report.
 const sodt::ParamSpec& maxDeviation = sodt::paramSpec("maxDeviationRel");
 
@@ -436,6 +440,15 @@ std::string statsReport(const StatsOptions& o, MeshD& m, MeshD* ref, int threads
   j["vertices"] = m.vn;
   j["faces"] = m.fn;
   writeMeasures(j, s);
+  // noise_estimate is a median over the whole mesh: a small noisy part
+  // beside a large clean one reads clean. Each part on its own:
+  int components = 0;
+  const std::vector<sodt::ComponentNoise> parts =
+      sodt::estimateNoiseByComponentOf(m, kNoiseComponentsListed, &components);
+  j["components"] = components;
+  Json& list = j["noise_by_component"] = Json::array();
+  for (const sodt::ComponentNoise& c : parts)
+    list.push_back(Json{{"faces", c.faces}, {"vertices", c.vertices}, {"noise_estimate", number(c.noise.sigmaEdges)}});
   if (ref != nullptr) {
     const Distance d = distanceTo(m, *ref, threads);
     const long long inv = (m.vn == ref->vn && m.fn == ref->fn) ? sodt::countInvertedFaces(m, *ref, threads) : -1;

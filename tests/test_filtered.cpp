@@ -374,6 +374,36 @@ TEST(NoiseEstimate, CleanCadPartsReadClean) {
     }
 }
 
+TEST(NoiseEstimate, PerComponentASmallNoisyPartBesideALargeCleanOne) {
+  // The median over the whole mesh reads the large clean sphere; each part
+  // on its own reads its own noise.
+  sodt::MeshD large, small, both;
+  sodt_test::makeSphere(large, 5);
+  sodt_test::makeSphere(small, 2);
+  addNormalNoise(small, 0.3, 3);
+  for (auto& v : small.vert) v.P() = v.P() * 0.2 + vcg::Point3d(3, 0, 0);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::Mesh(both, small);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::Mesh(both, large);
+  EXPECT_LT(sodt::estimateNoiseOf(both).sigmaEdges, sodt::kLittleNoiseEdges);
+  int count = 0;
+  const std::vector<sodt::ComponentNoise> parts = sodt::estimateNoiseByComponentOf(both, 10, &count);
+  EXPECT_EQ(count, 2);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].faces, large.fn);  // the most faces first
+  EXPECT_EQ(parts[0].vertices, large.vn);
+  EXPECT_LT(parts[0].noise.sigmaEdges, sodt::kLittleNoiseEdges);
+  EXPECT_EQ(parts[0].noise.samples, sodt::kComponentNoiseSamples);
+  EXPECT_EQ(parts[1].faces, small.fn);
+  EXPECT_EQ(parts[1].noise.samples, small.vn);
+  EXPECT_GT(parts[1].noise.sigmaEdges, 0.8 * 0.3);
+  EXPECT_LT(parts[1].noise.sigmaEdges, 1.3 * 0.3);
+  // At most maxComponents are estimated; the count is of all of them.
+  const std::vector<sodt::ComponentNoise> first = sodt::estimateNoiseByComponentOf(both, 1, &count);
+  EXPECT_EQ(count, 2);
+  ASSERT_EQ(first.size(), 1u);
+  EXPECT_EQ(first[0].noise.sigmaEdges, parts[0].noise.sigmaEdges);
+}
+
 TEST(NoiseEstimate, TooSmallAMeshGivesNoEstimate) {
   sodt::MeshD m;
   // 8 vertices: none has 9 two-ring neighbours to fit; the two whose faces

@@ -921,6 +921,33 @@ TEST_F(CliTest, FilteredLeavesABoxWhoseNoiseItCannotEstimate) {
   }
 }
 
+TEST(CliStats, NoiseIsEstimatedPerComponentToo) {
+  // A small noisy sphere beside a large clean one: the median over the
+  // whole mesh reads clean, the small part on its own reads its noise.
+  TempDir dir;
+  SimpleMesh both = noisySphere(4, 0.0, 1u);
+  const SimpleMesh small = noisySphere(2, 0.3, 3u);
+  const int offset = both.vertices();
+  for (int v = 0; v < small.vertices(); ++v)
+    both.xyz.insert(both.xyz.end(), {0.2 * small.xyz[3 * v] + 3, 0.2 * small.xyz[3 * v + 1], 0.2 * small.xyz[3 * v + 2]});
+  for (int i : small.tri) both.tri.push_back(i + offset);
+  writeFile(dir / "two.off", toOff(both));
+  const RunResult r = runSodt({"stats", dir / "two.off"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_LT(jsonNumber(r.out, "noise_estimate"), 0.05) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "components"), 2) << r.out;
+  // The parts, the one with the most faces first.
+  const std::size_t list = r.out.find("\"noise_by_component\"");
+  ASSERT_NE(list, std::string::npos) << r.out;
+  const std::string first = r.out.substr(list), second = first.substr(first.find('}'));
+  EXPECT_EQ(jsonNumber(first, "faces"), both.faces() - small.faces()) << r.out;
+  EXPECT_LT(jsonNumber(first, "noise_estimate"), 0.05) << r.out;
+  EXPECT_EQ(jsonNumber(second, "faces"), small.faces()) << r.out;
+  EXPECT_EQ(jsonNumber(second, "vertices"), small.vertices()) << r.out;
+  EXPECT_GT(jsonNumber(second, "noise_estimate"), 0.2) << r.out;
+  EXPECT_LT(jsonNumber(second, "noise_estimate"), 0.4) << r.out;
+}
+
 TEST_F(CliTest, StatsAgainstItselfHasZeroDistance) {
   const RunResult r = runSodt({"stats", in_, "--reference", in_}, dir_);
   ASSERT_EQ(r.exitCode, 0) << r.err;

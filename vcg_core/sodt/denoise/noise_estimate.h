@@ -217,6 +217,92 @@ NoiseEstimate estimateNoise(const FaceList& faces, int nv, PosFn pos) {
   return detail::fromErrors(errors);
 }
 
+/// At most this many vertices of each component are sampled by
+/// estimateNoiseByComponent: the median of 2000 errors is within about 3%
+/// of that of all of them.
+constexpr int kComponentNoiseSamples = 2000;
+
+/// The noise estimate of one connected component.
+struct ComponentNoise {
+  int faces = 0;     ///< live faces of the component
+  int vertices = 0;  ///< vertices of those faces
+  NoiseEstimate noise;
+};
+
+/// estimateNoise for each connected component of the live faces (faces
+/// joined by a shared vertex) on its own, in mean edges of that component,
+/// sampling at most kComponentNoiseSamples of its vertices: a small noisy
+/// part beside a large clean one reads noisy here, where the median over
+/// the whole mesh reads clean. The components with the most faces come
+/// first (on a tie, the one whose first face comes first); only the first
+/// maxComponents are estimated and returned, and *count, when given, gets
+/// how many there are.
+template <class PosFn>
+std::vector<ComponentNoise> estimateNoiseByComponent(const FaceList& faces, int nv, PosFn pos, int maxComponents,
+                                                     int* count = nullptr) {
+  // Union-find over the vertices of each face.
+  std::vector<int> parent(static_cast<std::size_t>(nv));
+  for (int v = 0; v < nv; ++v) parent[v] = v;
+  const auto root = [&parent](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (std::size_t f = 0; f < faces.tri.size(); ++f)
+    if (faces.live[f])
+      for (int k = 1; k < 3; ++k) {
+        const int a = root(faces.tri[f][0]), b = root(faces.tri[f][k]);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
+  // Components in the order of their first face, with their face counts
+  // and edge lengths.
+  std::vector<int> id(static_cast<std::size_t>(nv), -1);
+  std::vector<ComponentNoise> comp;
+  std::vector<double> edgeSum;
+  for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+    if (!faces.live[f]) continue;
+    const int r = root(faces.tri[f][0]);
+    if (id[r] < 0) {
+      id[r] = static_cast<int>(comp.size());
+      comp.emplace_back();
+      edgeSum.push_back(0);
+    }
+    ++comp[id[r]].faces;
+    for (int k = 0; k < 3; ++k) edgeSum[id[r]] += (pos(faces.tri[f][k]) - pos(faces.tri[f][(k + 1) % 3])).Norm();
+  }
+  std::vector<std::vector<int>> verts(comp.size());
+  std::vector<char> used(static_cast<std::size_t>(nv), 0);
+  for (std::size_t f = 0; f < faces.tri.size(); ++f)
+    if (faces.live[f])
+      for (int v : faces.tri[f]) used[v] = 1;
+  for (int v = 0; v < nv; ++v)
+    if (used[v]) verts[id[root(v)]].push_back(v);
+  std::vector<int> order(comp.size());
+  for (std::size_t c = 0; c < comp.size(); ++c) {
+    order[c] = static_cast<int>(c);
+    comp[c].vertices = static_cast<int>(verts[c].size());
+  }
+  std::stable_sort(order.begin(), order.end(), [&comp](int a, int b) { return comp[a].faces > comp[b].faces; });
+  if (count) *count = static_cast<int>(comp.size());
+  if (static_cast<int>(order.size()) > maxComponents) order.resize(std::max(0, maxComponents));
+  detail::NoiseProbe<PosFn> probe(faces, nv, pos);
+  std::vector<ComponentNoise> out;
+  std::vector<double> errors;
+  for (int c : order) {
+    const double meanEdge = edgeSum[c] / (3.0 * comp[c].faces);
+    errors.clear();
+    const int n = comp[c].vertices, sampled = std::min(n, kComponentNoiseSamples);
+    if (meanEdge > 0 && std::isfinite(meanEdge))
+      for (int s = 0; s < sampled; ++s) {
+        const double e = probe.error(verts[c][static_cast<std::size_t>((static_cast<long long>(s) * n) / sampled)],
+                                     meanEdge);
+        if (e >= 0) errors.push_back(e);
+      }
+    comp[c].noise = detail::fromErrors(errors);
+    out.push_back(comp[c]);
+  }
+  return out;
+}
+
 /// estimateNoise on a vcglib mesh (any scalar type); deleted faces are
 /// left out.
 template <class MeshType>
@@ -226,6 +312,19 @@ NoiseEstimate estimateNoiseOf(const MeshType& m) {
     const auto& p = m.vert[i].cP();
     return Vec3(p[0], p[1], p[2]);
   });
+}
+
+/// estimateNoiseByComponent on a vcglib mesh; deleted faces are left out.
+template <class MeshType>
+std::vector<ComponentNoise> estimateNoiseByComponentOf(const MeshType& m, int maxComponents, int* count = nullptr) {
+  const FaceList faces = makeFaceList(m);
+  return estimateNoiseByComponent(
+      faces, static_cast<int>(m.vert.size()),
+      [&m](int i) {
+        const auto& p = m.vert[i].cP();
+        return Vec3(p[0], p[1], p[2]);
+      },
+      maxComponents, count);
 }
 
 }  // namespace sodt
