@@ -310,9 +310,7 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
               numberText(o.params.epsilon).c_str(), creaseAngleDeg(o.params.epsilon),
               numberText(o.params.eta).c_str(), a == sodt::Algorithm::Basic ? unused : "",
               numberText(maxDeviation.shownValue(o.params)).c_str(),
-              a == sodt::Algorithm::Denoise || a == sodt::Algorithm::Filtered || o.params.guard == sodt::Guard::None
-                  ? unused
-                  : "",
+              a == sodt::Algorithm::Denoise || o.params.guard == sodt::Guard::None ? unused : "",
               numberText(o.params.maxNormalStepRel).c_str(), a != sodt::Algorithm::Denoise ? unused : "");
   if (o.params.flips)
     std::printf("  flips          %lld edges flipped (max dihedral %s deg)%s\n", st.flips,

@@ -263,6 +263,9 @@ TEST(Filtered, SweepsTurnFacesUpToTheirOwnBoundWhateverTheFaceTurnParameter) {
   // leaves at high noise, which needs faces to turn further than the other
   // algorithms' default face-turn bound allows: they use
   // kFilteredFaceTurnDeg, and the parameter does not change the result.
+  // It needs them to leave the denoised surface by more than the default
+  // deviation bound too (with it, this cube's smallest angle stays at 10
+  // degrees): the bound is off here.
   sodt::MeshD clean, noisy;
   sodt_test::makeCube(clean, 10);
   vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(noisy, clean);
@@ -273,6 +276,7 @@ TEST(Filtered, SweepsTurnFacesUpToTheirOwnBoundWhateverTheFaceTurnParameter) {
   sodt::SodtParams p;
   p.algorithm = Algorithm::Filtered;
   p.threads = 1;
+  p.maxDeviationRel = 0;
   p.maxFaceTurnDeg = 10;
   const sodt::SodtStats sa = sodt::SodtSmoother<sodt::MeshD>::Apply(a, p);
   p.maxFaceTurnDeg = 90;
@@ -729,4 +733,53 @@ TEST(Filtered, SweepsKeepTheDenoisedSurfaceOfACoarseTorus) {
   EXPECT_GT(st.restoredVertices, m.vn / 2);
   EXPECT_LT(first, 0.6 * noisy);
   EXPECT_LE(result, first);
+}
+
+TEST(Filtered, SweepsStayWithinTheBoundOfTheFilteredSurface) {
+  // The sweeps have the deviation bound, against the surface the filter
+  // made: the result is never farther from the input than the filter
+  // moved it, plus the bound. Clean coarse cylinders get no filter and so
+  // stay within the bound of their input (as with feature); a noisy cube
+  // stays within it of its denoised surface. (The sampled Hausdorff
+  // distance may pass the bound between the checked points: 1.5 times.)
+  const double bound = sodt::SodtParams().maxDeviationRel;
+  sodt::MeshD cylinder, input;
+  makeCadCylinder(cylinder, 24, 0.5);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(input, cylinder);
+  const sodt::SodtStats sc = runFiltered(cylinder);
+  EXPECT_EQ(sc.filter.kind, sodt::FilterKind::None) << sodt::describe(sc.filter);
+  const double dc = sodt::surfaceDistance(cylinder, input).maxRel;
+  EXPECT_LE(dc, 1.5 * bound);
+  // A coarse half cylinder (8 segments) of uneven chords: its vertices
+  // slide around it, and without the bound that cuts its arcs.
+  sodt::MeshD arc, arcInput, unbounded;
+  sodt_test::makeHalfCylinder(arc, 8, 0.3, 5);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(arcInput, arc);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(unbounded, arc);
+  const sodt::SodtStats sa = runFiltered(arc);
+  const double da = sodt::surfaceDistance(arc, arcInput).maxRel;
+  EXPECT_EQ(sa.filter.kind, sodt::FilterKind::None) << sodt::describe(sa.filter);
+  EXPECT_GT(sa.moved + sa.backtracked + sa.fallbackMoves, 0);
+  EXPECT_LE(da, 1.5 * bound);
+  sodt::SodtParams off;
+  off.algorithm = Algorithm::Filtered;
+  off.threads = 1;
+  off.maxDeviationRel = 0;
+  sodt::SodtSmoother<sodt::MeshD>::Apply(unbounded, off);
+  const double du = sodt::surfaceDistance(unbounded, arcInput).maxRel;
+  EXPECT_GT(du, 3 * bound);
+
+  sodt::MeshD cube, denoised;
+  sodt_test::makeCube(cube, 10);
+  addNormalNoise(cube, 0.3, 31);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(denoised, cube);
+  const sodt::FilterChoice c = firstStage(denoised);
+  const sodt::SodtStats sn = runFiltered(cube);
+  EXPECT_EQ(sn.filter.kind, c.kind);
+  EXPECT_NE(sn.filter.kind, sodt::FilterKind::None);
+  const double dn = sodt::surfaceDistance(cube, denoised).maxRel;
+  std::printf("Hausdorff distance, in diagonals: clean cylinder to its input %.2e, half cylinder %.2e (%.2e "
+              "without the bound), noisy cube to its denoised surface %.2e (bound %.2e)\n",
+              dc, da, du, dn, bound);
+  EXPECT_LE(dn, 1.5 * bound);
 }
