@@ -31,6 +31,10 @@ Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
 /// The document as the reports are written: two-space indent, a final newline.
 std::string text(const Json& j) { return j.dump(2) + "\n"; }
 
+/// `sodt stats` estimates the noise of this many components (those with the
+/// most faces) on their own.
+constexpr int kNoiseComponentsListed = 16;
+
 /// The deviation bound, in percent in the summary and the report.
 const sodt::ParamSpec& maxDeviation = sodt::paramSpec("maxDeviationRel");
 
@@ -292,8 +296,8 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
     std::printf("  border         %d vertices slide along the border (%d of them moved), %d corners of the border "
                 "fixed\n", st.slidingBoundary, st.movedBoundary, st.boundaryCorners);
   if (st.reorientedFaces > 0)
-    std::printf("  winding        %d faces turned over so that each part of the mesh has one winding "
-                "(written so)\n", st.reorientedFaces);
+    std::printf("  winding        %d faces turned over so that each part of the mesh has one winding, "
+                "outward on closed parts (written so)\n", st.reorientedFaces);
   std::printf("  classes        %s%s\n", classCountsText(r.classes).c_str(),
               o.params.algorithm == sodt::Algorithm::Basic ? " (basic does not classify)" : "");
   std::printf("  smoothing      %.3f s for %d sweeps on %d thread%s (algorithm %s, guard %s, max backtracks %d)\n",
@@ -306,9 +310,7 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
               numberText(o.params.epsilon).c_str(), creaseAngleDeg(o.params.epsilon),
               numberText(o.params.eta).c_str(), a == sodt::Algorithm::Basic ? unused : "",
               numberText(maxDeviation.shownValue(o.params)).c_str(),
-              a == sodt::Algorithm::Denoise || a == sodt::Algorithm::Filtered || o.params.guard == sodt::Guard::None
-                  ? unused
-                  : "",
+              a == sodt::Algorithm::Denoise || o.params.guard == sodt::Guard::None ? unused : "",
               numberText(o.params.maxNormalStepRel).c_str(), a != sodt::Algorithm::Denoise ? unused : "");
   if (o.params.flips)
     std::printf("  flips          %lld edges flipped (max dihedral %s deg)%s\n", st.flips,
@@ -374,6 +376,14 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
     f["steps"] = st.filter.steps;
     f["noise_level"] = number(st.filter.noiseEdges);
     f["noise_estimated"] = st.filter.noiseEstimated;
+    if (st.filter.passedOver != sodt::FilterKind::None) {
+      Json passed;
+      passed["kind"] = sodt::toString(st.filter.passedOver);
+      passed["steps"] = st.filter.passedOverSteps;
+      f["passed_over"] = passed;
+    } else {
+      f["passed_over"] = nullptr;
+    }
     f["risk"] = number(st.filter.risk);
     f["risk_unfiltered"] = number(st.filter.riskNone);
     f["restored_vertices"] = st.restoredVertices;
@@ -428,6 +438,15 @@ std::string statsReport(const StatsOptions& o, MeshD& m, MeshD* ref, int threads
   j["vertices"] = m.vn;
   j["faces"] = m.fn;
   writeMeasures(j, s);
+  // noise_estimate is a median over the whole mesh: a small noisy part
+  // beside a large clean one reads clean. Each part on its own:
+  int components = 0;
+  const std::vector<sodt::ComponentNoise> parts =
+      sodt::estimateNoiseByComponentOf(m, kNoiseComponentsListed, &components);
+  j["components"] = components;
+  Json& list = j["noise_by_component"] = Json::array();
+  for (const sodt::ComponentNoise& c : parts)
+    list.push_back(Json{{"faces", c.faces}, {"vertices", c.vertices}, {"noise_estimate", number(c.noise.sigmaEdges)}});
   if (ref != nullptr) {
     const Distance d = distanceTo(m, *ref, threads);
     const long long inv = (m.vn == ref->vn && m.fn == ref->fn) ? sodt::countInvertedFaces(m, *ref, threads) : -1;

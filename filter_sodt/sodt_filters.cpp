@@ -309,7 +309,7 @@ void logSmoothing(const SmoothingRun& run, const LogFn& log) {
   }
   if (p.algorithm == sodt::Algorithm::Denoise)
     log(LogLevel::Info, strFormat("S-ODT: max normal step %g x mean edge length", p.maxNormalStepRel));
-  else if (p.guard != sodt::Guard::None && p.maxDeviationRel > 0 && p.algorithm != sodt::Algorithm::Filtered)
+  else if (p.guard != sodt::Guard::None && p.maxDeviationRel > 0)
     log(LogLevel::Info, strFormat("S-ODT: deviation guard %g%% of the bounding-box diagonal",
                                   sodt::paramSpec("maxDeviationRel").shownValue(p)));
   log(LogLevel::Info, strFormat("S-ODT: min angle %.4f -> %.4f deg, max angle %.4f -> %.4f deg, "

@@ -195,6 +195,19 @@ TEST(Filtered, BorderVerticesStayAndAFlatGridStaysFlat) {
   EXPECT_LT(rmsHeight(m), 0.6 * rmsHeight(ref));  // the border keeps its noise
 }
 
+TEST(Filtered, ABoxTooSmallToEstimateItsNoiseKeepsItsShape) {
+  // A 12-triangle box: its noise cannot be estimated, so no filter runs,
+  // and the sweeps find every vertex a corner (a fixed filter took 99% of
+  // its volume and made them all smooth).
+  sodt::MeshD box;
+  sodt_test::makeCube(box, 1);
+  const auto before = sodt_test::positions(box);
+  const sodt::SodtStats st = runFiltered(box);
+  EXPECT_EQ(st.filter.kind, sodt::FilterKind::None);
+  EXPECT_EQ(st.cornerVertices, 8);
+  EXPECT_EQ(sodt_test::positions(box), before);
+}
+
 TEST(Filtered, RangeSigmaFollowsTheFeatureAngle) {
   // The normal filter's sigmas come from the mesh and the feature angle alone.
   sodt::MeshD m;
@@ -250,6 +263,9 @@ TEST(Filtered, SweepsTurnFacesUpToTheirOwnBoundWhateverTheFaceTurnParameter) {
   // leaves at high noise, which needs faces to turn further than the other
   // algorithms' default face-turn bound allows: they use
   // kFilteredFaceTurnDeg, and the parameter does not change the result.
+  // It needs them to leave the denoised surface by more than the default
+  // deviation bound too (with it, this cube's smallest angle stays at 10
+  // degrees): the bound is off here.
   sodt::MeshD clean, noisy;
   sodt_test::makeCube(clean, 10);
   vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(noisy, clean);
@@ -260,6 +276,7 @@ TEST(Filtered, SweepsTurnFacesUpToTheirOwnBoundWhateverTheFaceTurnParameter) {
   sodt::SodtParams p;
   p.algorithm = Algorithm::Filtered;
   p.threads = 1;
+  p.maxDeviationRel = 0;
   p.maxFaceTurnDeg = 10;
   const sodt::SodtStats sa = sodt::SodtSmoother<sodt::MeshD>::Apply(a, p);
   p.maxFaceTurnDeg = 90;
@@ -305,11 +322,99 @@ TEST(NoiseEstimate, ReadsTheNoiseNotTheCurvature) {
   }
 }
 
+namespace {
+
+/// A closed cylinder of radius 1 and height h as CAD exports write one:
+/// `segments` flat strips around it, each split into two triangles, and
+/// each end a fan from its centre.
+void makeCadCylinder(sodt::MeshD& m, int segments, double h) {
+  m.Clear();
+  vcg::tri::Allocator<sodt::MeshD>::AddVertices(m, 2 * segments + 2);
+  for (int k = 0; k < segments; ++k) {
+    const double a = 2 * M_PI * k / segments;
+    m.vert[k].P() = vcg::Point3d(std::cos(a), std::sin(a), 0);
+    m.vert[segments + k].P() = vcg::Point3d(std::cos(a), std::sin(a), h);
+  }
+  const int bottom = 2 * segments, top = bottom + 1;
+  m.vert[bottom].P() = vcg::Point3d(0, 0, 0);
+  m.vert[top].P() = vcg::Point3d(0, 0, h);
+  for (int k = 0; k < segments; ++k) {
+    const int a = k, b = (k + 1) % segments;
+    sodt_test::addFace(m, a, b, segments + b);
+    sodt_test::addFace(m, a, segments + b, segments + a);
+    sodt_test::addFace(m, bottom, b, a);
+    sodt_test::addFace(m, top, segments + a, segments + b);
+  }
+}
+
+}  // namespace
+
+TEST(NoiseEstimate, CleanCadPartsReadClean) {
+  // On a coarse CAD part most vertices lie on a sharp edge, where no
+  // quadric fits (a cube of 4 x 4 cells a side read 0.15 mean edges, a
+  // 12-strip cylinder 0.72); but their faces lie flat on the sides, which
+  // noise would tilt apart.
+  sodt::MeshD cube, cylinder;
+  sodt_test::makeCube(cube, 4);
+  makeCadCylinder(cylinder, 12, 0.5);
+  for (const sodt::MeshD* m : {&cube, &cylinder}) {
+    const sodt::NoiseEstimate e = sodt::estimateNoiseOf(*m);
+    EXPECT_GE(e.samples, 20);
+    EXPECT_LT(e.sigmaEdges, sodt::kLittleNoiseEdges) << m->vn << " vertices";
+  }
+  // Noise tilts them apart even when it is small: a cube and a sphere with
+  // noise of 0.05 mean edges read it (the cube up to 1.6 times, see above).
+  sodt::MeshD sphere;
+  sodt_test::makeSphere(sphere, 4);
+  sodt_test::makeCube(cube, 10);
+  for (sodt::MeshD* clean : {&cube, &sphere})
+    for (unsigned seed : {1u, 2u}) {
+      sodt::MeshD m;
+      vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(m, *clean);
+      addNormalNoise(m, 0.05, seed);
+      const double e = sodt::estimateNoiseOf(m).sigmaEdges;
+      EXPECT_GT(e, 0.8 * 0.05) << m.vn << " vertices, seed " << seed;
+      EXPECT_LT(e, 1.7 * 0.05) << m.vn << " vertices, seed " << seed;
+    }
+}
+
+TEST(NoiseEstimate, PerComponentASmallNoisyPartBesideALargeCleanOne) {
+  // The median over the whole mesh reads the large clean sphere; each part
+  // on its own reads its own noise.
+  sodt::MeshD large, small, both;
+  sodt_test::makeSphere(large, 5);
+  sodt_test::makeSphere(small, 2);
+  addNormalNoise(small, 0.3, 3);
+  for (auto& v : small.vert) v.P() = v.P() * 0.2 + vcg::Point3d(3, 0, 0);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::Mesh(both, small);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::Mesh(both, large);
+  EXPECT_LT(sodt::estimateNoiseOf(both).sigmaEdges, sodt::kLittleNoiseEdges);
+  int count = 0;
+  const std::vector<sodt::ComponentNoise> parts = sodt::estimateNoiseByComponentOf(both, 10, &count);
+  EXPECT_EQ(count, 2);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].faces, large.fn);  // the most faces first
+  EXPECT_EQ(parts[0].vertices, large.vn);
+  EXPECT_LT(parts[0].noise.sigmaEdges, sodt::kLittleNoiseEdges);
+  EXPECT_EQ(parts[0].noise.samples, sodt::kComponentNoiseSamples);
+  EXPECT_EQ(parts[1].faces, small.fn);
+  EXPECT_EQ(parts[1].noise.samples, small.vn);
+  EXPECT_GT(parts[1].noise.sigmaEdges, 0.8 * 0.3);
+  EXPECT_LT(parts[1].noise.sigmaEdges, 1.3 * 0.3);
+  // At most maxComponents are estimated; the count is of all of them.
+  const std::vector<sodt::ComponentNoise> first = sodt::estimateNoiseByComponentOf(both, 1, &count);
+  EXPECT_EQ(count, 2);
+  ASSERT_EQ(first.size(), 1u);
+  EXPECT_EQ(first[0].noise.sigmaEdges, parts[0].noise.sigmaEdges);
+}
+
 TEST(NoiseEstimate, TooSmallAMeshGivesNoEstimate) {
   sodt::MeshD m;
-  sodt_test::makeCube(m, 1);  // 8 vertices: no vertex has 9 two-ring neighbours
+  // 8 vertices: none has 9 two-ring neighbours to fit; the two whose faces
+  // lie flat in pairs read as clean, but two are too few to tell.
+  sodt_test::makeCube(m, 1);
   const sodt::NoiseEstimate e = sodt::estimateNoiseOf(m);
-  EXPECT_EQ(e.samples, 0);
+  EXPECT_LT(e.samples, 10);
   EXPECT_TRUE(std::isnan(e.sigmaEdges));
 }
 
@@ -478,6 +583,39 @@ TEST(FilterSelect, LeavesACleanMeshOrOneWithLittleNoiseGivenAsItIs) {
   EXPECT_NE(firstStage(sphere, 0.3).kind, sodt::FilterKind::None);
 }
 
+TEST(FilterSelect, NoFilterWhenTheNoiseLevelIsUnknown) {
+  // A 12-triangle box has too few vertices to estimate its noise from: a
+  // filter would only guess, and the normal filter rounds it once ran
+  // then took 99% of its volume.
+  sodt::MeshD box;
+  sodt_test::makeCube(box, 1);
+  const std::vector<sodt::Vec3> before = positions(box);
+  const sodt::FilterChoice c = firstStage(box);
+  EXPECT_EQ(c.kind, sodt::FilterKind::None) << sodt::describe(c);
+  EXPECT_TRUE(std::isnan(c.noiseEdges));
+  EXPECT_TRUE(std::isnan(c.risk));
+  EXPECT_EQ(positions(box), before);
+  EXPECT_NE(sodt::describe(c).find("could not be estimated"), std::string::npos) << sodt::describe(c);
+}
+
+TEST(FilterSelect, AFilterThatBarelyBeatsNoneIsNotApplied) {
+  // Told a noise level of 0.2 edges where it is 0.3, the best filter (five
+  // Taubin step pairs) scores 0.74 of no filter: too little to trust an
+  // estimate with, so the input stays, and the report names the filter.
+  sodt::MeshD sphere;
+  sodt_test::makeSphere(sphere, 4);
+  addNormalNoise(sphere, 0.3, 4);
+  const std::vector<sodt::Vec3> noisy = positions(sphere);
+  const sodt::FilterChoice c = firstStage(sphere, 0.2);
+  EXPECT_EQ(c.kind, sodt::FilterKind::None) << sodt::describe(c);
+  EXPECT_NE(c.passedOver, sodt::FilterKind::None);
+  EXPECT_GT(c.passedOverSteps, 0);
+  EXPECT_GT(c.risk, sodt::kSureMargin * c.riskNone);
+  EXPECT_LT(c.risk, c.riskNone);
+  EXPECT_EQ(positions(sphere), noisy);
+  EXPECT_NE(sodt::describe(c).find("not below"), std::string::npos) << sodt::describe(c);
+}
+
 TEST(FilterSelect, SameChoiceAndResultForEveryThreadCount) {
   sodt::MeshD a, b;
   sodt_test::makeSphere(a, 4);
@@ -595,4 +733,53 @@ TEST(Filtered, SweepsKeepTheDenoisedSurfaceOfACoarseTorus) {
   EXPECT_GT(st.restoredVertices, m.vn / 2);
   EXPECT_LT(first, 0.6 * noisy);
   EXPECT_LE(result, first);
+}
+
+TEST(Filtered, SweepsStayWithinTheBoundOfTheFilteredSurface) {
+  // The sweeps have the deviation bound, against the surface the filter
+  // made: the result is never farther from the input than the filter
+  // moved it, plus the bound. Clean coarse cylinders get no filter and so
+  // stay within the bound of their input (as with feature); a noisy cube
+  // stays within it of its denoised surface. (The sampled Hausdorff
+  // distance may pass the bound between the checked points: 1.5 times.)
+  const double bound = sodt::SodtParams().maxDeviationRel;
+  sodt::MeshD cylinder, input;
+  makeCadCylinder(cylinder, 24, 0.5);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(input, cylinder);
+  const sodt::SodtStats sc = runFiltered(cylinder);
+  EXPECT_EQ(sc.filter.kind, sodt::FilterKind::None) << sodt::describe(sc.filter);
+  const double dc = sodt::surfaceDistance(cylinder, input).maxRel;
+  EXPECT_LE(dc, 1.5 * bound);
+  // A coarse half cylinder (8 segments) of uneven chords: its vertices
+  // slide around it, and without the bound that cuts its arcs.
+  sodt::MeshD arc, arcInput, unbounded;
+  sodt_test::makeHalfCylinder(arc, 8, 0.3, 5);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(arcInput, arc);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(unbounded, arc);
+  const sodt::SodtStats sa = runFiltered(arc);
+  const double da = sodt::surfaceDistance(arc, arcInput).maxRel;
+  EXPECT_EQ(sa.filter.kind, sodt::FilterKind::None) << sodt::describe(sa.filter);
+  EXPECT_GT(sa.moved + sa.backtracked + sa.fallbackMoves, 0);
+  EXPECT_LE(da, 1.5 * bound);
+  sodt::SodtParams off;
+  off.algorithm = Algorithm::Filtered;
+  off.threads = 1;
+  off.maxDeviationRel = 0;
+  sodt::SodtSmoother<sodt::MeshD>::Apply(unbounded, off);
+  const double du = sodt::surfaceDistance(unbounded, arcInput).maxRel;
+  EXPECT_GT(du, 3 * bound);
+
+  sodt::MeshD cube, denoised;
+  sodt_test::makeCube(cube, 10);
+  addNormalNoise(cube, 0.3, 31);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(denoised, cube);
+  const sodt::FilterChoice c = firstStage(denoised);
+  const sodt::SodtStats sn = runFiltered(cube);
+  EXPECT_EQ(sn.filter.kind, c.kind);
+  EXPECT_NE(sn.filter.kind, sodt::FilterKind::None);
+  const double dn = sodt::surfaceDistance(cube, denoised).maxRel;
+  std::printf("Hausdorff distance, in diagonals: clean cylinder to its input %.2e, half cylinder %.2e (%.2e "
+              "without the bound), noisy cube to its denoised surface %.2e (bound %.2e)\n",
+              dc, da, du, dn, bound);
+  EXPECT_LE(dn, 1.5 * bound);
 }

@@ -422,12 +422,30 @@ TEST(Smoother, InconsistentWindingIsMadeCoherentNotFrozen) {
   EXPECT_LE(sodt::countInvertedFaces(mixed, good), sodt::countInvertedFaces(good, input));
 }
 
-TEST(Smoother, EachComponentGetsItsOwnMajorityWinding) {
-  // Two spheres, the second turned inside out entirely and then a few of its
-  // faces turned back: each keeps the winding of its own majority.
+namespace {
+
+/// Signed volume of the faces [from, to) of m about c (positive when they
+/// wind outwards around it).
+double signedVolume(const sodt::MeshD& m, std::size_t from, std::size_t to, const vcg::Point3d& c) {
+  double v = 0;
+  for (std::size_t f = from; f < to; ++f) {
+    const auto& F = m.face[f];
+    v += (F.cP(0) - c).dot((F.cP(1) - c) ^ (F.cP(2) - c)) / 6;
+  }
+  return v;
+}
+
+}  // namespace
+
+TEST(Smoother, EachClosedComponentWithMixedWindingComesOutOutward) {
+  // Two spheres, the first with a few faces turned over, the second turned
+  // inside out entirely and then a few of its faces turned back: each is
+  // oriented on its own, and as both are closed, outwards, whatever the
+  // majority of its faces says.
   sodt::MeshD a, b;
   sodt_test::makeSphere(a, 2);
   sodt_test::makeSphere(b, 2);
+  for (int k = 0; k < 5; ++k) std::swap(a.face[10 * k + 3].V(1), a.face[10 * k + 3].V(2));
   for (auto& f : b.face) std::swap(f.V(1), f.V(2));
   for (int k = 0; k < 7; ++k) std::swap(b.face[10 * k].V(1), b.face[10 * k].V(2));
   for (auto& v : b.vert) v.P() += vcg::Point3d(5, 0, 0);
@@ -437,17 +455,58 @@ TEST(Smoother, EachComponentGetsItsOwnMajorityWinding) {
   sodt::SodtParams p;
   p.iterations = 1;
   const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(both, p);
-  EXPECT_EQ(s.reorientedFaces, 7);
+  EXPECT_EQ(s.reorientedFaces, 5 + (b.fn - 7));
   EXPECT_EQ(s.fixedNonManifold, 0);
-  // Signed volume of each part about its own centre: the first sphere's
-  // outward winding gives a positive one, the second's inward a negative one.
-  double first = 0, second = 0;
-  for (std::size_t f = 0; f < both.face.size(); ++f) {
-    const auto& F = both.face[f];
-    const vcg::Point3d c = f < a.face.size() ? vcg::Point3d(0, 0, 0) : vcg::Point3d(5, 0, 0);
-    const double v = (F.cP(0) - c).dot((F.cP(1) - c) ^ (F.cP(2) - c)) / 6;
-    (f < a.face.size() ? first : second) += v;
-  }
-  EXPECT_GT(first, 0);
-  EXPECT_LT(second, 0);
+  EXPECT_GT(signedVolume(both, 0, a.face.size(), vcg::Point3d(0, 0, 0)), 0);
+  EXPECT_GT(signedVolume(both, a.face.size(), both.face.size(), vcg::Point3d(5, 0, 0)), 0);
+}
+
+TEST(Smoother, ClosedMeshWithMostFacesTurnedComesOutOutwardNotInsideOut) {
+  // 60% of a closed sphere's faces turned over: the majority faces
+  // inwards, and reorienting by it turned the sphere inside out.
+  sodt::MeshD m;
+  jitteredSphere(m, 0.3);
+  std::mt19937 g(60);
+  int turned = 0;
+  for (auto& f : m.face)
+    if (g() % 5 < 3) {
+      std::swap(f.V(1), f.V(2));
+      ++turned;
+    }
+  ASSERT_GT(turned, m.fn / 2);
+  sodt::SodtParams p;
+  p.iterations = 0;
+  const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  EXPECT_EQ(s.reorientedFaces, turned);
+  EXPECT_GT(signedVolume(m, 0, m.face.size(), vcg::Point3d(0, 0, 0)), 4.0);  // the unit sphere's 4.19
+}
+
+TEST(Smoother, ClosedMeshInsideOutWithOneWindingKeepsIt) {
+  // Nothing to reconcile: a consistently inward sphere is the user's to
+  // keep (a cavity), and nothing is turned over.
+  sodt::MeshD m;
+  sodt_test::makeSphere(m, 2);
+  for (auto& f : m.face) std::swap(f.V(1), f.V(2));
+  const std::vector<std::array<int, 3>> faces = sodt_test::faceIndices(m);
+  sodt::SodtParams p;
+  p.iterations = 0;
+  const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  EXPECT_EQ(s.reorientedFaces, 0);
+  EXPECT_EQ(sodt_test::faceIndices(m), faces);
+}
+
+TEST(Smoother, DuplicatedFacesAreNotAWindingConflict) {
+  // An open grid whose every face is given twice, the same way round: each
+  // border edge has a face and its copy, running it the same way. That is
+  // no change of winding, and no face may be turned over (30 of 256 were).
+  sodt::MeshD m;
+  sodt_test::makeGrid(m, 9, 0.0, 1);
+  for (const std::array<int, 3>& t : sodt_test::faceIndices(m)) sodt_test::addFace(m, t[0], t[1], t[2]);
+  ASSERT_EQ(m.fn, 2 * 8 * 8 * 2);
+  const std::vector<std::array<int, 3>> faces = sodt_test::faceIndices(m);
+  sodt::SodtParams p;
+  p.iterations = 0;
+  const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  EXPECT_EQ(s.reorientedFaces, 0);
+  EXPECT_EQ(sodt_test::faceIndices(m), faces);
 }

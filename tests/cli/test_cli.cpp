@@ -278,6 +278,27 @@ SimpleMesh subdividedCube(int n) {
   return m;
 }
 
+/// The unit icosphere with s subdivisions, each vertex moved along its
+/// radius by sigma mean edge lengths times a standard normal draw.
+SimpleMesh noisySphere(int subdiv, double sigma, unsigned seed) {
+  SimpleMesh m = jitteredSphere(subdiv, 0.0, 1u);
+  double edges = 0;
+  for (int f = 0; f < m.faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const double* a = &m.xyz[3 * m.tri[3 * f + k]];
+      const double* b = &m.xyz[3 * m.tri[3 * f + (k + 1) % 3]];
+      edges += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+    }
+  const double h = edges / (3.0 * m.faces());
+  std::mt19937 g(seed);
+  for (int v = 0; v < m.vertices(); ++v) {
+    const double u = 1.0 - uniform(g, 0, 1), w = uniform(g, 0, 1);
+    const double draw = std::sqrt(-2.0 * std::log(u)) * std::cos(2 * M_PI * w);  // Box-Muller
+    for (int k = 0; k < 3; ++k) m.xyz[3 * v + k] *= 1.0 + sigma * h * draw;
+  }
+  return m;
+}
+
 /// Number of coordinates of p at +-1 (to float precision): 1 on a cube face,
 /// 2 on a cube edge, 3 at a cube corner.
 int coordinatesOnCubeBoundary(const vcg::Point3d& p) {
@@ -837,31 +858,34 @@ TEST_F(CliTest, DenoisersWarnOnANearlyNoiseFreeInput) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(r.err.find("noise-free"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("filter         none (noise level"), std::string::npos) << r.out;
-  // The clean coarse torus reads a little noise (its curvature), and Taubin
-  // smoothing scores better than none for it: filtered warns that it
-  // smoothed a clean-looking mesh.
-  const std::string torus = std::string(SODT_MESH_DIR) + "/torus.off";
-  const RunResult t = runSodt({"smooth", torus, dir_ / "out.ply", "--algorithm", "filtered"}, dir_);
+  // A sphere with a little noise (0.04 mean edges) reads below 0.05, and
+  // Taubin smoothing scores well enough against none to run: filtered warns
+  // that it smoothed a clean-looking mesh.
+  const std::string lowNoise = dir_ / "low_noise.off";
+  writeFile(lowNoise, toOff(noisySphere(3, 0.04, 5u)));
+  const RunResult t = runSodt({"smooth", lowNoise, dir_ / "out.ply", "--algorithm", "filtered"}, dir_);
   ASSERT_EQ(t.exitCode, 0) << t.err;
   EXPECT_NE(t.err.find("warning: the input looks nearly noise-free (noise estimated at 0.0"), std::string::npos)
       << t.err;
   EXPECT_NE(t.err.find("filtering still scored better (Taubin smoothing"), std::string::npos) << t.err;
-  // Told the torus has no noise to speak of, it leaves it alone.
+  // Told it has no noise to speak of, it leaves it alone.
   const RunResult g = runSodt(
-      {"smooth", torus, dir_ / "out.ply", "--algorithm", "filtered", "--noise-level", "0.001"}, dir_);
+      {"smooth", lowNoise, dir_ / "out.ply", "--algorithm", "filtered", "--noise-level", "0.001"}, dir_);
   ASSERT_EQ(g.exitCode, 0) << g.err;
   EXPECT_EQ(g.err.find("noise-free"), std::string::npos) << g.err;
   EXPECT_NE(g.out.find("filter         none (noise level 0.001 mean edges, given"), std::string::npos) << g.out;
   // The report says what ran, for scripts.
   const std::string report = dir_ / "report.json";
-  const RunResult j = runSodt({"smooth", torus, dir_ / "out.ply", "--algorithm", "filtered", "--report", report}, dir_);
+  const RunResult j =
+      runSodt({"smooth", lowNoise, dir_ / "out.ply", "--algorithm", "filtered", "--report", report}, dir_);
   ASSERT_EQ(j.exitCode, 0) << j.err;
   const std::string json = readFile(report);
   EXPECT_NE(json.find("\"kind\": \"taubin\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"passed_over\": null"), std::string::npos) << json;
   EXPECT_GT(jsonNumber(json, "steps"), 0) << json;
-  EXPECT_LT(jsonNumber(json, "risk"), jsonNumber(json, "risk_unfiltered")) << json;
-  // Most of the torus is smooth around every vertex: set back on it.
-  EXPECT_GT(jsonNumber(json, "restored_vertices"), 384) << json;
+  EXPECT_LT(jsonNumber(json, "risk"), 0.5 * jsonNumber(json, "risk_unfiltered")) << json;
+  // The sphere is smooth around every vertex: set back on it.
+  EXPECT_GT(jsonNumber(json, "restored_vertices"), 321) << json;
   EXPECT_NE(j.out.find("restored       "), std::string::npos) << j.out;
   const RunResult f = runSodt({"smooth", in_, dir_ / "out.ply", "--algorithm", "feature"}, dir_);
   ASSERT_EQ(f.exitCode, 0) << f.err;
@@ -874,6 +898,54 @@ TEST_F(CliTest, DenoisersWarnOnANearlyNoiseFreeInput) {
   const RunResult st = runSodt({"stats", noisy}, dir_);
   ASSERT_EQ(st.exitCode, 0) << st.err;
   EXPECT_GT(jsonNumber(st.out, "noise_estimate"), 0.08) << st.out;
+}
+
+TEST_F(CliTest, FilteredLeavesABoxWhoseNoiseItCannotEstimate) {
+  // A 12-triangle box has too few vertices to estimate its noise: no filter
+  // runs, its corners stay corners, and it keeps its volume (a fixed
+  // filter once took 99% of it), with --iterations 0 too.
+  const std::string box = dir_ / "box.off";
+  writeFile(box, toOff(subdividedCube(1)));
+  for (const char* sweeps : {"20", "0"}) {
+    const std::string report = dir_ / "report.json";
+    const RunResult r = runSodt({"smooth", box, dir_ / "out.off", "--algorithm", "filtered", "--iterations", sweeps,
+                                 "--report", report},
+                                dir_);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string json = readFile(report);
+    EXPECT_NE(json.find("\"kind\": \"none\""), std::string::npos) << json;
+    EXPECT_NE(json.find("\"noise_level\": null"), std::string::npos) << json;
+    EXPECT_EQ(jsonNumber(json, "volume_rel_change"), 0.0) << json;
+    EXPECT_LE(jsonNumber(json, "hausdorff_rel"), 1e-12) << json;  // the rounding of the sample points
+    EXPECT_NE(r.out.find("the noise level could not be estimated"), std::string::npos) << r.out;
+  }
+}
+
+TEST(CliStats, NoiseIsEstimatedPerComponentToo) {
+  // A small noisy sphere beside a large clean one: the median over the
+  // whole mesh reads clean, the small part on its own reads its noise.
+  TempDir dir;
+  SimpleMesh both = noisySphere(4, 0.0, 1u);
+  const SimpleMesh small = noisySphere(2, 0.3, 3u);
+  const int offset = both.vertices();
+  for (int v = 0; v < small.vertices(); ++v)
+    both.xyz.insert(both.xyz.end(), {0.2 * small.xyz[3 * v] + 3, 0.2 * small.xyz[3 * v + 1], 0.2 * small.xyz[3 * v + 2]});
+  for (int i : small.tri) both.tri.push_back(i + offset);
+  writeFile(dir / "two.off", toOff(both));
+  const RunResult r = runSodt({"stats", dir / "two.off"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_LT(jsonNumber(r.out, "noise_estimate"), 0.05) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "components"), 2) << r.out;
+  // The parts, the one with the most faces first.
+  const std::size_t list = r.out.find("\"noise_by_component\"");
+  ASSERT_NE(list, std::string::npos) << r.out;
+  const std::string first = r.out.substr(list), second = first.substr(first.find('}'));
+  EXPECT_EQ(jsonNumber(first, "faces"), both.faces() - small.faces()) << r.out;
+  EXPECT_LT(jsonNumber(first, "noise_estimate"), 0.05) << r.out;
+  EXPECT_EQ(jsonNumber(second, "faces"), small.faces()) << r.out;
+  EXPECT_EQ(jsonNumber(second, "vertices"), small.vertices()) << r.out;
+  EXPECT_GT(jsonNumber(second, "noise_estimate"), 0.2) << r.out;
+  EXPECT_LT(jsonNumber(second, "noise_estimate"), 0.4) << r.out;
 }
 
 TEST_F(CliTest, StatsAgainstItselfHasZeroDistance) {
@@ -1763,6 +1835,57 @@ TEST(CliWinding, MixedWindingIsMadeCoherentAndReported) {
   // Written with one winding: a closed mesh with a positive volume.
   const RunResult st = runSodt({"stats", dir / "out.ply"}, dir);
   EXPECT_GT(jsonNumber(st.out, "volume"), 4.0);  // the unit sphere's 4.19, not a mix
+}
+
+TEST(CliWinding, ClosedMeshWithMostFacesTurnedComesOutOutward) {
+  // 60% of a closed sphere's faces turned over: made coherent by their
+  // majority it came out inside out; a closed part is made to face out.
+  TempDir dir;
+  SimpleMesh m = jitteredSphere(3, 0.4, 5);
+  int turned = 0;
+  for (int f = 0; f < m.faces(); ++f)
+    if (f % 5 < 3) {
+      std::swap(m.tri[3 * f + 1], m.tri[3 * f + 2]);
+      ++turned;
+    }
+  writeFile(dir / "mixed.off", toOff(m));
+  const RunResult r = runSodt(
+      {"smooth", dir / "mixed.off", dir / "out.off", "--iterations", "0", "--report", dir / "r.json"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(jsonNumber(readFile(dir / "r.json"), "reoriented_faces"), turned);
+  EXPECT_NE(r.out.find(std::to_string(turned) + " faces turned over"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("outward on closed parts"), std::string::npos) << r.out;
+  const RunResult st = runSodt({"stats", dir / "out.off"}, dir);
+  EXPECT_GT(jsonNumber(st.out, "volume"), 4.0) << st.out;  // the unit sphere's 4.19
+}
+
+TEST(CliWinding, DuplicatedFacesAreNotTurnedOver) {
+  // An open grid with every face given twice, the same way round: with
+  // --iterations 0 the file comes back as it was (30 of 256 faces were
+  // turned over).
+  TempDir dir;
+  SimpleMesh m;
+  const int n = 9;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) m.xyz.insert(m.xyz.end(), {x / 8.0, y / 8.0, 0.0});
+  for (int copy = 0; copy < 2; ++copy)
+    for (int y = 0; y + 1 < n; ++y)
+      for (int x = 0; x + 1 < n; ++x) {
+        const int a = y * n + x, b = a + 1, c = a + n, d = c + 1;
+        m.tri.insert(m.tri.end(), {a, b, d, a, d, c});
+      }
+  writeFile(dir / "dup.off", toOff(m));
+  const RunResult r = runSodt(
+      {"smooth", dir / "dup.off", dir / "out.off", "--iterations", "0", "--report", dir / "r.json"}, dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(jsonNumber(readFile(dir / "r.json"), "reoriented_faces"), 0);
+  EXPECT_EQ(r.out.find("turned over so"), std::string::npos) << r.out;
+  sodt::MeshD out;
+  sodt::loadMesh(dir / "out.off", out);
+  ASSERT_EQ(out.fn, m.faces());
+  for (int f = 0; f < m.faces(); ++f)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(out.face[f].cV(k) - &out.vert[0], m.tri[3 * f + k]) << "face " << f;
 }
 
 TEST(CliWinding, VerticesLeftFixedByNonManifoldFacesAreWarnedAbout) {

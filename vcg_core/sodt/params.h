@@ -96,16 +96,17 @@ struct SodtParams {
   double epsilon = 2.0;
   /// Corner sensitivity eta of Eq. 10 (> 0): larger finds more corners among the creases.
   double eta = 2.0;
-  /// Deviation guard of every algorithm but Denoise and Filtered: after a move, the
+  /// Deviation guard of every algorithm but Denoise: after a move, the
   /// vertex and the centroids and edge midpoints of its faces must lie within
   /// this distance of the input surface around it (its one- and two-ring
   /// faces in the input mesh; of a neighbour with more than 32 faces around
   /// it, the 32 beside the vertex), as a fraction of the bounding-box
   /// diagonal (0 disables the check). Keeps vertices and faces from cutting
-  /// across creases and bounds the Hausdorff distance to the input. Not used
-  /// by Denoise, whose purpose is to leave the noisy input surface, nor with
-  /// Guard::None, nor by Filtered, whose sweeps move tangentially on the
-  /// surface its normal filtering made. Shown in percent by the CLI and the plugin (see paramTable()).
+  /// across creases and bounds the Hausdorff distance to the input. For
+  /// Filtered the input is the surface its filter made (the input itself
+  /// when no filter ran). Not used by Denoise, whose purpose is to leave the
+  /// noisy input surface, nor with Guard::None. Shown in percent by the CLI
+  /// and the plugin (see paramTable()).
   double maxDeviationRel = 0.001;
   /// Flip edges between sweeps (see flips.h): changes the connectivity, so it
   /// is off by default, as in the paper.
@@ -202,15 +203,21 @@ inline const char* toString(FilterKind k) {
 
 /// What filtered's first stage chose, and from what: the filter and its
 /// length with the smallest estimated mean squared error along the
-/// normals, in squared mean edges (Stein's unbiased risk estimate, NaN
-/// when no estimate could be made and the fallback ran).
+/// normals, in squared mean edges (Stein's unbiased risk estimate), when
+/// that is at most kSureMargin of no filter's (filter_select.h).
 struct FilterChoice {
   FilterKind kind = FilterKind::None;
   int steps = 0;                ///< rounds (Normals) or step pairs (Taubin)
-  double noiseEdges = 0;        ///< the noise level used, in mean edges
+  double noiseEdges = 0;        ///< the noise level used, in mean edges (NaN: it could not be estimated)
   bool noiseEstimated = false;  ///< from estimateNoise, not the noiseLevel parameter
-  double risk = 0;              ///< of the choice
-  double riskNone = 0;          ///< of leaving the input as it is
+  /// The filter and length that scored best without beating no filter by
+  /// the margin, so none ran (kind is None); None otherwise.
+  FilterKind passedOver = FilterKind::None;
+  int passedOverSteps = 0;
+  /// Of the choice, or of passedOver when set; NaN when nothing was scored
+  /// (the noise level is 0 or unknown).
+  double risk = 0;
+  double riskNone = 0;          ///< of leaving the input as it is (NaN when nothing was scored)
 };
 
 /// Counters of one run; every vertex visit ends in exactly one of
@@ -632,7 +639,7 @@ inline const std::vector<ParamSpec>& paramTable() {
     t[5].bind("maxDeviationRel", &SodtParams::maxDeviationRel).keys("maxDeviation", "max_deviation")
         .cli("--max-deviation", "PERCENT").reportAs("max_deviation_percent").dialog("Max deviation (% of bbox diagonal)")
         .shownIn("percent of the bounding-box diagonal", 100).range(0, 1)
-        .usedBy(kEveryAlgorithm & ~denoise & ~filtered)
+        .usedBy(kEveryAlgorithm & ~denoise)
         .describe("deviation guard: after a move, the vertex and the centroids and edge midpoints of its "
                   "faces must stay this close to the input surface around the vertex (0 disables it)",
                   "A step that would leave that bound is shortened or rejected like any guard veto. It keeps "
@@ -640,9 +647,9 @@ inline const std::vector<ParamSpec>& paramTable() {
                   "the input's vertices, edge midpoints and quarter points and face centroids must stay "
                   "within 1.25 times the bound of the output, so a tip or a sharp rim is not cut off. The surface "
                   "around a vertex is its one- and two-ring faces in the input mesh (of a neighbour with "
-                  "more than 32 faces around it, the 32 beside the vertex). Unused by denoise, whose "
-                  "purpose is to leave the noisy surface, by filtered, whose sweeps move on the surface its "
-                  "normal filtering made, and with guard none.");
+                  "more than 32 faces around it, the 32 beside the vertex). With filtered, the input is the "
+                  "surface its filter made (the input itself when no filter ran). Unused by denoise, whose "
+                  "purpose is to leave the noisy surface, and with guard none.");
     t[6].bind("epsilon", &SodtParams::epsilon).keys("epsilon", "epsilon").cli("--epsilon", "X")
         .dialog("Crease sensitivity (epsilon)").range(0, 1e6, true, true).usedBy(feature | denoise | filtered)
         .describe("crease sensitivity epsilon of Eq. 10: larger finds more creases",

@@ -111,9 +111,10 @@ void setUpRun(RunState<MeshType>& r) {
 }
 
 /// Filtered (Algorithm::Filtered): denoises first (filter_select.h); the
-/// sweeps then run Algorithm 2 with the denoised surface as their input,
-/// and its smooth vertices are set back on the denoised surface's quadrics
-/// after them. The filter may move vertices the sweeps hold still
+/// sweeps then run Algorithm 2 with the denoised surface as their input
+/// (its classes, face orientations and deviation bound), and its smooth
+/// vertices are set back on the denoised surface's quadrics after them,
+/// within the bound. The filter may move vertices the sweeps hold still
 /// (corners): they are written back too.
 template <class MeshType>
 struct FilterStage : Stage<MeshType> {
@@ -129,22 +130,20 @@ struct FilterStage : Stage<MeshType> {
   void afterSweeps(RunState<MeshType>& r) override {
     if (onQuadrics_.empty()) return;
     r.stats.restoredVertices = restoreOnQuadrics(quadrics_, r.w.topo, r.faceNormal, r.p.guard == Guard::Quality,
-                                                 r.meanEdge, onQuadrics_, r.w.pos);
+                                                 r.input.get(), r.meanEdge, onQuadrics_, r.w.pos);
   }
   void finish(RunState<MeshType>& r) override {
     r.written.insert(r.written.end(), filtered_.begin(), filtered_.end());
   }
 
-  /// The parameters of the sweeps: Algorithm 2's, without the deviation
-  /// bound, with their own face turn bound (filteredFaceTurnDeg;
-  /// SodtParams::maxFaceTurnDeg is not used). Their moves are tangential to
-  /// the denoised surface anyway: on the noise benchmark's meshes the
-  /// deviation bound (against the denoised surface) only kept the triangles
-  /// worse, at the same distance to the clean surface.
+  /// The parameters of the sweeps: Algorithm 2's, with the deviation
+  /// bound against the denoised surface (against the input when no filter
+  /// ran), so that the result is never farther from the input than the
+  /// filter moved it plus the bound, and with their own face turn bound
+  /// (filteredFaceTurnDeg; SodtParams::maxFaceTurnDeg is not used).
   static SodtParams sweepParams(const SodtParams& params, FilterKind filter) {
     SodtParams p = params;
     p.algorithm = Algorithm::Feature;
-    p.maxDeviationRel = 0;
     p.maxFaceTurnDeg = filteredFaceTurnDeg(filter);
     return p;
   }

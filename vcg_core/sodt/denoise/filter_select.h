@@ -8,7 +8,8 @@
 // filter (Taubin 1995) keeps the low frequencies. So both run, each as a
 // sequence of growing lengths, and the length with the smallest Stein's
 // unbiased risk estimate (SURE) of the mean squared error along the
-// normals wins, or no filter at all when none beats the input:
+// normals wins when it beats leaving the input as it is by a margin
+// (kSureMargin), else no filter runs:
 //
 //   SURE = 1/n sum_i ( r_i^2 - s^2 + 2 s^2 d f_i / d y_i ),
 //
@@ -53,9 +54,14 @@ constexpr int kWorseScoresToStop = 3;
 /// its estimated divergence on the noisy torus swung from 1.7 to -1.2
 /// between rounds; with 0.5 and 1 it stays at 0.3-0.4.
 constexpr double kProbeShare = 0.5;
-/// When the noise level cannot be estimated (too few vertices with a
-/// closed two-ring), this many normal filter rounds run, unscored.
-constexpr int kFallbackNormalRounds = 2;
+/// A filter is applied only when its SURE is at most this share of no
+/// filter's: SURE is an estimate, and where the noise level is misread or
+/// the noise is not Gaussian along the normals (a clean CAD part whose
+/// sharp edges read as noise) a small gain it promises is not there, while
+/// the filter's move of the surface is. On the noise benchmark's meshes,
+/// noise of 0.1-0.5 mean edges, the chosen filters scored below 0.2 of no
+/// filter (most of them below 0).
+constexpr double kSureMargin = 0.5;
 
 /// Jacobi steps of the uniform umbrella operator: x_i += factor (mean of
 /// the one-ring - x_i) for the movable vertices. No fold guard: undoing a
@@ -225,22 +231,28 @@ bool scoreSequence(const RiskProbe& probe, const std::vector<Vec3>& input, Filte
 using FilterProgress = bool (*)(int, const char*);
 
 /// Filtered's first stage on the working positions: the filter and length
-/// with the smallest SURE (see the file comment) replaces pos; only
-/// movable vertices move. noiseEdges: the noise level in mean edges, or 0
-/// to estimate it (estimateNoise). cb, when given, hears of every score
-/// (at position 0); when it returns false the scoring stops and the best
-/// length scored so far is applied.
+/// with the smallest SURE (see the file comment) replaces pos when that
+/// SURE is at most kSureMargin of no filter's; only movable vertices move.
+/// noiseEdges: the noise level in mean edges, or 0 to estimate it
+/// (estimateNoise); when it cannot be estimated (NaN: too few vertices
+/// with a closed two-ring, such as a 12-triangle box) nothing is scored and
+/// pos stays as it is. cb, when given, hears of every score (at position
+/// 0); when it returns false the scoring stops and the best length scored
+/// so far is applied (under the same margin).
 inline FilterChoice filteredDenoise(const FaceList& faces, const std::vector<char>& movable, double featureAngleDeg,
                                     double noiseEdges, int threads, std::vector<Vec3>& pos,
                                     FilterProgress cb = nullptr) {
   const int nv = static_cast<int>(pos.size());
   const std::vector<Vec3> input = pos;
-  const NormalFilterRounds normals(faces, movable, featureAngleDeg, input, threads);
   FilterChoice choice;
   choice.noiseEstimated = !(noiseEdges > 0);
   choice.noiseEdges = choice.noiseEstimated
                           ? estimateNoise(faces, nv, [&input](int i) { return input[i]; }).sigmaEdges
                           : noiseEdges;
+  choice.risk = choice.riskNone = std::numeric_limits<double>::quiet_NaN();
+  // Nothing to score with: a mesh whose noise is unknown or 0 keeps its
+  // positions (and nothing of the filters is built).
+  if (!(choice.noiseEdges > 0) || !std::isfinite(choice.noiseEdges)) return choice;
   double edgeSum = 0;
   long long edges = 0;
   for (std::size_t f = 0; f < faces.tri.size(); ++f) {
@@ -262,17 +274,8 @@ inline FilterChoice filteredDenoise(const FaceList& faces, const std::vector<cha
   const double sigma = choice.noiseEdges * meanEdge;
   const detail::RiskProbe probe(input, detail::vertexNormals(faces, light), movable,
                                 std::isfinite(sigma) ? sigma : 0.0);
-  if (!std::isfinite(choice.noiseEdges) || !probe.usable()) {
-    // Nothing to score with: a clean mesh (noise 0) keeps its positions;
-    // one whose noise cannot be estimated gets a fixed normal filter.
-    choice.risk = choice.riskNone = std::numeric_limits<double>::quiet_NaN();
-    if (!std::isfinite(choice.noiseEdges) && normals.usable()) {
-      for (int k = 0; k < kFallbackNormalRounds; ++k) normals.round(pos);
-      choice.kind = FilterKind::Normals;
-      choice.steps = kFallbackNormalRounds;
-    }
-    return choice;
-  }
+  if (!probe.usable()) return choice;
+  const NormalFilterRounds normals(faces, movable, featureAngleDeg, input, threads);
   choice.risk = choice.riskNone = probe.riskOfNone();
   std::vector<Vec3> best = input;
   auto tick = [cb](const char* what, int k) {
@@ -291,34 +294,49 @@ inline FilterChoice filteredDenoise(const FaceList& faces, const std::vector<cha
   const double e2 = meanEdge * meanEdge;
   choice.risk /= e2;
   choice.riskNone /= e2;
+  if (choice.kind != FilterKind::None && choice.risk > kSureMargin * choice.riskNone) {
+    // Scored, but not by enough: reported, not applied.
+    choice.passedOver = choice.kind;
+    choice.passedOverSteps = choice.steps;
+    choice.kind = FilterKind::None;
+    choice.steps = 0;
+    return choice;
+  }
   pos = best;
   return choice;
 }
 
 /// What ran: "none", "normal filter, 3 rounds", "Taubin smoothing, 10 step pairs".
-inline std::string describeFilter(const FilterChoice& c) {
-  switch (c.kind) {
+inline std::string describeFilter(FilterKind kind, int steps) {
+  switch (kind) {
     case FilterKind::None: return "none";
-    case FilterKind::Normals:
-      return "normal filter, " + std::to_string(c.steps) + (c.steps == 1 ? " round" : " rounds");
-    case FilterKind::Taubin: return "Taubin smoothing, " + std::to_string(c.steps) + " step pairs";
+    case FilterKind::Normals: return "normal filter, " + std::to_string(steps) + (steps == 1 ? " round" : " rounds");
+    case FilterKind::Taubin: return "Taubin smoothing, " + std::to_string(steps) + " step pairs";
   }
   return "?";
 }
 
+inline std::string describeFilter(const FilterChoice& c) { return describeFilter(c.kind, c.steps); }
+
 /// One line for reports and logs: what ran and why.
 inline std::string describe(const FilterChoice& c) {
-  char why[256];
+  char why[320];
+  const char* source = c.noiseEstimated ? "estimated" : "given";
   if (!std::isfinite(c.noiseEdges))
-    std::snprintf(why, sizeof why, "the noise level could not be estimated: a fixed length");
+    std::snprintf(why, sizeof why, "the noise level could not be estimated: too few vertices with a closed two-ring");
   else if (!std::isfinite(c.risk))
-    std::snprintf(why, sizeof why, "noise level %.3g mean edges, %s: nothing to remove", c.noiseEdges,
-                  c.noiseEstimated ? "estimated" : "given");
+    std::snprintf(why, sizeof why, "noise level %.3g mean edges, %s: nothing to remove", c.noiseEdges, source);
+  else if (c.passedOver != FilterKind::None)
+    std::snprintf(why, sizeof why,
+                  "noise level %.3g mean edges, %s; the best filter, %s, has an estimated squared error of %.3g "
+                  "against %.3g unfiltered, in squared mean edges: not below %g of it",
+                  c.noiseEdges, source, describeFilter(c.passedOver, c.passedOverSteps).c_str(), c.risk, c.riskNone,
+                  kSureMargin);
   else
     std::snprintf(why, sizeof why,
                   "noise level %.3g mean edges, %s; estimated squared error %.3g against %.3g unfiltered, in "
                   "squared mean edges",
-                  c.noiseEdges, c.noiseEstimated ? "estimated" : "given", c.risk, c.riskNone);
+                  c.noiseEdges, source, c.risk, c.riskNone);
   return describeFilter(c) + " (" + why + ")";
 }
 

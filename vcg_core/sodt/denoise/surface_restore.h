@@ -18,6 +18,7 @@
 // moved their faces and cost a degree of dihedral error).
 #pragma once
 
+#include "../guards/deviation.h"
 #include "../maths/fitting.h"
 #include "../maths/geometry.h"
 #include "../maths/topology.h"
@@ -131,21 +132,25 @@ class SurfaceQuadrics {
 
 /// Sets every vertex of `which` that has a quadric back on it (see
 /// SurfaceQuadrics::onQuadric), one vertex after the other, where that
-/// turns none of its star's faces against faceNormal and, with quality,
-/// leaves the star's smallest angle no smaller. Returns the vertices moved.
+/// turns none of its star's faces against faceNormal, with quality leaves
+/// the star's smallest angle no smaller, and with a bound (bound not null)
+/// keeps the vertex and its star's centroids within it. Returns the
+/// vertices moved.
 inline int restoreOnQuadrics(const SurfaceQuadrics& q, const RingTopology& topo, const std::vector<Vec3>& faceNormal,
-                             bool quality, double reach, const std::vector<int>& which, std::vector<Vec3>& pos) {
+                             bool quality, const InputSurface* bound, double reach, const std::vector<int>& which,
+                             std::vector<Vec3>& pos) {
   int moved = 0;
   for (int i : which) {
     Vec3 y;
     if (topo.kind[i] != VertexKind::Interior || !q.has(i) || !q.onQuadric(i, pos[i], reach, y)) continue;
     const int b = topo.ringBegin[i], m = topo.ringSize(i);
     double before = 0, after = 0;  // the star's largest squared cosine of a smallest angle
-    bool ok = true;
+    bool ok = !bound || bound->near(i, y, -1);
     for (int k = 0; k < m && ok; ++k) {
       const Vec3& p = pos[topo.ringIdx[b + k]];
       const Vec3& r = pos[topo.ringIdx[b + (k + 1) % m]];
-      ok = doubleAreaVector(y, p, r) * faceNormal[topo.ringFace[b + k]] > 0;
+      ok = doubleAreaVector(y, p, r) * faceNormal[topo.ringFace[b + k]] > 0 &&
+           (!bound || bound->near(i, (y + p + r) / 3.0, -1));
       before = std::max(before, triangleMinAngleCos2(pos[i], p, r));
       after = std::max(after, triangleMinAngleCos2(y, p, r));
     }

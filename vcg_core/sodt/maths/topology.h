@@ -3,10 +3,13 @@
 // vertex its neighbours in cyclic face order, or why it has no closed ring.
 #pragma once
 
+#include "geometry.h"
+
 #include <vcg/complex/complex.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -176,18 +179,25 @@ inline VertexKind closeFan(const FanEdge* fan, int n, std::vector<FanEdge>& edge
 }  // namespace detail
 
 /// Flips faces so that every edge shared by exactly two live faces is used
-/// by them in opposite directions: each component (faces joined through
-/// such edges) gets one winding, that of the majority of its faces (of its
-/// first face on a tie). Components that cannot be oriented (a Moebius
-/// band) and faces around edges with three or more faces keep theirs. The
-/// half-edges are grouped by their lower vertex (a counting sort), so the
-/// cost is linear in the faces. nv: the number of vertices.
+/// by them in opposite directions. Each component (faces joined through
+/// such edges) that has a conflict (an edge both faces run the same way)
+/// gets one winding: when it is closed (each of its faces has three such
+/// edges), the one that gives it a positive signed volume (outward
+/// normals); else that of the majority of its faces (of its first face on
+/// a tie). Components without a conflict keep their winding, even a closed
+/// one that faces inwards. Two faces on the same three vertices (a face
+/// given twice) are not joined, so duplicates are never a conflict.
+/// Components that cannot be oriented (a Moebius band) and faces around
+/// edges with three or more faces keep theirs. The half-edges are grouped
+/// by their lower vertex (a counting sort), so the cost is linear in the
+/// faces. pos: the vertex positions (pos.size() vertices).
 /// \return the number of faces flipped.
-inline int orientCoherently(FaceList& faces, int nv) {
+inline int orientCoherently(FaceList& faces, const std::vector<Vec3>& pos) {
   struct Half {
     int hi, face;
     bool up;  ///< the face runs the edge from its lower to its higher vertex
   };
+  const int nv = static_cast<int>(pos.size());
   const std::size_t nf = faces.tri.size();
   std::vector<int> begin(static_cast<std::size_t>(nv) + 1, 0);
   for (std::size_t f = 0; f < nf; ++f)
@@ -205,6 +215,12 @@ inline int orientCoherently(FaceList& faces, int nv) {
         const int a = faces.tri[f][j], b = faces.tri[f][(j + 1) % 3];
         if (a != b) half[static_cast<std::size_t>(fill[std::min(a, b)]++)] = Half{std::max(a, b), int(f), a < b};
       }
+  const auto sameVertices = [&faces](int f, int g) {
+    std::array<int, 3> a = faces.tri[f], b = faces.tri[g];
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    return a == b;
+  };
   // Faces joined by a two-face edge, and whether that edge asks one of them
   // to turn over (both run it the same way).
   std::vector<std::vector<std::pair<int, bool>>> next(nf);
@@ -215,7 +231,7 @@ inline int orientCoherently(FaceList& faces, int nv) {
     for (int h = begin[v]; h < begin[v + 1];) {
       int e = h + 1;
       while (e < begin[v + 1] && half[e].hi == half[h].hi) ++e;
-      if (e - h == 2 && half[h].face != half[h + 1].face) {
+      if (e - h == 2 && half[h].face != half[h + 1].face && !sameVertices(half[h].face, half[h + 1].face)) {
         const bool same = half[h].up == half[h + 1].up;
         mixed = mixed || same;
         next[half[h].face].emplace_back(half[h + 1].face, same);
@@ -233,12 +249,13 @@ inline int orientCoherently(FaceList& faces, int nv) {
     component.clear();
     queue.assign(1, int(seed));
     parity[seed] = 0;
-    bool orientable = true;
+    bool orientable = true, closed = true;
     int ones = 0;
     for (std::size_t q = 0; q < queue.size(); ++q) {
       const int f = queue[q];
       component.push_back(f);
       ones += parity[f];
+      closed = closed && next[f].size() == 3;
       for (const auto& nb : next[f]) {
         const signed char want = static_cast<signed char>(parity[f] ^ (nb.second ? 1 : 0));
         if (parity[nb.first] < 0) {
@@ -249,9 +266,24 @@ inline int orientCoherently(FaceList& faces, int nv) {
         }
       }
     }
-    if (!orientable) continue;
+    if (!orientable || ones == 0) continue;  // a Moebius band, or no conflict
     const int zeros = static_cast<int>(component.size()) - ones;
-    const signed char turn = ones > zeros ? 0 : 1;  // the minority turns over
+    signed char turn = ones > zeros ? 0 : 1;  // the minority turns over
+    if (closed) {
+      // The signed volume with the faces of parity 0 as they are, about
+      // the component's mean vertex (against cancellation).
+      Vec3 c(0, 0, 0);
+      for (int f : component)
+        for (int v : faces.tri[f]) c += pos[v];
+      c /= 3.0 * double(component.size());
+      double volume = 0;
+      for (int f : component) {
+        const std::array<int, 3>& t = faces.tri[f];
+        const double v = (pos[t[0]] - c) * ((pos[t[1]] - c) ^ (pos[t[2]] - c));
+        volume += parity[f] ? -v : v;
+      }
+      if (volume != 0 && std::isfinite(volume)) turn = volume > 0 ? 1 : 0;
+    }
     for (int f : component)
       if (parity[f] == turn) {
         std::swap(faces.tri[f][1], faces.tri[f][2]);

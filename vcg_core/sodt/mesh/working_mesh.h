@@ -51,8 +51,9 @@ void checkFiniteCoordinates(const MeshType& m) {
 
 /// The working copy of m; with selectedOnly, as makeFaceList. Inconsistent
 /// winding would leave the vertices where it changes fixed: each component
-/// gets the winding of the majority of its faces first (written back at
-/// the end, and counted in reorientedFaces).
+/// with a conflict gets one winding first (the outward one when it is
+/// closed, else its majority's; see orientCoherently), written back at the
+/// end and counted in reorientedFaces.
 /// \throw InvalidInput for a mesh outside the sizes of checkMeshSize().
 template <class MeshType>
 WorkingMesh loadWorkingMesh(const MeshType& m, bool selectedOnly) {
@@ -79,7 +80,7 @@ WorkingMesh loadWorkingMesh(const MeshType& m, bool selectedOnly) {
   w.faceOrder = sortFacesByVertex(w.faces, nv);
   w.topo = buildRingTopology(w.faces, w.deleted);
   if (std::find(w.topo.kind.begin(), w.topo.kind.end(), VertexKind::NonManifold) != w.topo.kind.end()) {
-    w.reorientedFaces = orientCoherently(w.faces, nv);
+    w.reorientedFaces = orientCoherently(w.faces, w.pos);
     if (w.reorientedFaces > 0) w.topo = buildRingTopology(w.faces, w.deleted);
   }
   checkMeshSize(surfaceDiagonal(w.pos, w.topo));
