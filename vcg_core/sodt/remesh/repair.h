@@ -696,7 +696,7 @@ inline RepairResult LocalRepair::run() {
   return r_;
 }
 
-/// The input the repair keeps to: its faces, hashed (taken before the
+/// The input the repair keeps to: its faces in a tree (taken before the
 /// first sweep), and the distance bound both ways (0 for none: a run
 /// without the deviation guard, or Denoise, which leaves its input).
 struct RepairInput {
@@ -705,17 +705,8 @@ struct RepairInput {
 
   void prepare(const SodtParams& p, const std::vector<Vec3>& pos, const FaceList& faces, const RingTopology& topo) {
     if (!p.repair) return;
-    double sum = 0;
-    long long n = 0;
-    for (std::size_t f = 0; f < faces.tri.size(); ++f) {
-      if (!faces.live[f]) continue;
-      const auto& t = faces.tri[f];
-      for (int j = 0; j < 3; ++j, ++n) sum += (pos[t[(j + 1) % 3]] - pos[t[j]]).Norm();
-    }
-    const double diag = surfaceDiagonal(pos, topo);
-    const double cell = n > 0 && sum > 0 ? sum / double(n) : diag > 0 ? diag : 1.0;
-    grid.reset(new InputGrid(pos, faces, cell));
-    if (DeviationInput::applies(p)) bound = p.maxDeviationRel * diag;
+    grid.reset(new InputGrid(pos, faces));
+    if (DeviationInput::applies(p)) bound = p.maxDeviationRel * surfaceDiagonal(pos, topo);
   }
 };
 
