@@ -5,14 +5,16 @@
 // the changed neighbourhood with S-ODT under the guards, until no triangle
 // is below the target or nothing more can be done. Feature edges (sharper
 // than the feature angle, or along a crease) are never flipped or collapsed,
-// corners never move, and every change keeps the surface within the
-// deviation bound of the input both ways (input near the change -> output,
-// output -> input).
+// corners never move, every change keeps the surface within the deviation
+// bound of the input both ways (input near the change -> output, output ->
+// input), and every face it makes or moves within the face-turn bound of
+// the input face under it.
 #pragma once
 
 #include "../maths/classify.h"
 #include "flips.h"
 #include "../maths/geometry.h"
+#include "../guards/guarded_move.h"
 #include "../guards/input_grid.h"
 #include "../maths/local_solve.h"
 #include "../params.h"
@@ -44,6 +46,10 @@ struct RepairSettings {
   double featureRad = 30 * kPi / 180;  ///< edges whose faces turn more are features
   double flipMaxRad = 20 * kPi / 180;  ///< flips only across flatter edges
   double bound = 0;                    ///< distance bound, both ways (0: none)
+  /// Squared cosine of the largest turn of a face the repair makes or moves
+  /// from the input face under it (faceTurnCos2; 0: 90 degrees, the sign
+  /// test alone).
+  double maxTurnCos2 = 0;
   int maxRounds = 30;
   long long maxChanges = 0;  ///< vertices added plus removed, at most
 };
@@ -108,6 +114,9 @@ class LocalRepair {
   bool nearInput(const std::vector<std::array<Vec3, 3>>& tris) const;
   /// q lies within the bound of one of tris: the input point q is not cut off.
   bool covered(const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris) const;
+  /// Each of tris has area and keeps within the face-turn bound of the
+  /// input face under its centroid (InputGrid::under).
+  bool keepsTurn(const std::vector<std::array<Vec3, 3>>& tris) const;
   /// Adds f to v's faces. A star larger than kRepairMaxStar keeps where
   /// each face is (bigAt_), so that removing one costs O(1), not O(n).
   void addToVf(int v, int f) {
@@ -285,9 +294,23 @@ inline bool LocalRepair::covered(const Vec3& q, const std::vector<std::array<Vec
   return false;
 }
 
+inline bool LocalRepair::keepsTurn(const std::vector<std::array<Vec3, 3>>& tris) const {
+  if (!input_) return true;
+  // The faces already lie within the bound of the input (nearInput).
+  const double reach = s_.bound > 0 ? s_.bound : std::numeric_limits<double>::infinity();
+  for (const auto& t : tris) {
+    const Vec3 a = doubleAreaVector(t[0], t[1], t[2]);
+    if (!(a.SquaredNorm() > 0)) return false;
+    const InputGrid::Under u = input_->under((t[0] + t[1] + t[2]) / 3.0, a, reach);
+    if (!u.found || turnsBeyond(a, u.normal, s_.maxTurnCos2)) return false;
+  }
+  return true;
+}
+
 /// Edge a-b of faces (a, b, c) and (b, a, d) becomes c-d, faces (a, d, c)
-/// and (d, b, c), under flipPass's rules, the feature edges of this repair
-/// and the two-sided bound (the old edge's midpoint stays covered).
+/// and (d, b, c), under flipPass's rules, the feature edges of this repair,
+/// the two-sided bound (the old edge's midpoint stays covered) and the
+/// face-turn bound.
 inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   if (isFeature(a, b)) return Feature;
   int f1, f2;
@@ -305,7 +328,7 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   const double after = std::min(triangleMinAngle(pa, pd, pc), triangleMinAngle(pd, pb, pc));
   if (!(after > before + 1e-9)) return NoGain;
   const std::vector<std::array<Vec3, 3>> made = {{pa, pd, pc}, {pd, pb, pc}};
-  if (!nearInput(made) || !covered((pa + pb) * 0.5, made)) return OverBound;
+  if (!nearInput(made) || !covered((pa + pb) * 0.5, made) || !keepsTurn(made)) return OverBound;
   faces_.tri[f1] = {a, d, c};
   faces_.tri[f2] = {d, b, c};
   removeFromVf(a, f2);
@@ -321,7 +344,8 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
 /// a-b is an interior edge whose ends share no neighbour but the two
 /// opposite vertices (the link condition: the mesh stays manifold), no
 /// face folds or turns by more than 45 degrees, the smallest angle around
-/// grows, and the new faces stay near the input while covering a.
+/// grows, and the new faces stay near the input while covering a, and
+/// within the face-turn bound of the input under them.
 inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
   if (role_[a] != Role::Free) return Feature;
   int f1, f2;
@@ -354,7 +378,7 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
     made.push_back(u);
   }
   if (!(after > before)) return NoGain;
-  if (!nearInput(made) || !covered(pos_[a], made)) return OverBound;
+  if (!nearInput(made) || !covered(pos_[a], made) || !keepsTurn(made)) return OverBound;
   for (int f : vf_[a]) {
     if (f == f1 || f == f2) continue;
     for (int& v : faces_.tri[f])
@@ -378,7 +402,7 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
 /// Splits interior edge a-b of faces (a, b, c) and (b, a, d) at a new
 /// vertex m (the last vertex), at a + at (b - a): on the edge for a
 /// feature edge (it stays a chain of feature edges), else at the input
-/// point closest to it.
+/// point closest to it; the four faces must keep within both bounds.
 inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
   int f1, f2;
   if (!interiorEdge(a, b, f1, f2)) return Topology;
@@ -397,7 +421,7 @@ inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
         std::max({(t[1] - t[0]).SquaredNorm(), (t[2] - t[1]).SquaredNorm(), (t[0] - t[2]).SquaredNorm()});
     if (!(n.Norm() > kCollapse * longest) || !(n * (k < 2 ? o1 : o2) > 0)) return NoGain;
   }
-  if (!nearInput(made)) return OverBound;
+  if (!nearInput(made) || !keepsTurn(made)) return OverBound;
   const int m = static_cast<int>(pos_.size());
   pos_.push_back(p);
   deleted_.push_back(0);
@@ -537,7 +561,8 @@ inline bool LocalRepair::orderedRing(int v, std::vector<int>& ring) const {
 /// feature neighbours; the step halves up to three times, then the
 /// tangential Laplacian step is tried. A step is taken when no face folds
 /// nor gets a smaller smallest angle than the star had, the star stays
-/// near the input and covers v's old position.
+/// near the input, covers v's old position and keeps within the face-turn
+/// bound of the input under it.
 inline bool LocalRepair::relax(int v) {
   if (deleted_[v] || role_[v] == Role::Fixed || vf_[v].size() > kRepairMaxStar) return false;
   std::vector<int> ring;
@@ -576,7 +601,7 @@ inline bool LocalRepair::relax(int v) {
     std::vector<std::array<Vec3, 3>> made;
     for (std::size_t k = 0; k < st.size(); ++k) made.push_back({y, st.at(k), st.at(k + 1)});
     if (input_ && s_.bound > 0 && !input_->within(y, s_.bound)) continue;
-    if (!nearInput(made) || !covered(st.center, made)) continue;
+    if (!nearInput(made) || !covered(st.center, made) || !keepsTurn(made)) continue;
     pos_[v] = y;
     ++r_.relaxMoves;
     return true;
@@ -697,27 +722,65 @@ inline RepairResult LocalRepair::run() {
 }
 
 /// The input the repair keeps to: its faces in a tree (taken before the
-/// first sweep), and the distance bound both ways (0 for none: a run
-/// without the deviation guard, or Denoise, which leaves its input).
+/// first sweep), each with its own normal, the distance bound both ways (0
+/// for none: a run without the deviation guard, or Denoise, which leaves
+/// its input) and the face-turn bound (runTurnCos2).
 struct RepairInput {
   std::unique_ptr<InputGrid> grid;
   double bound = 0;
+  double maxTurnCos2 = 0;
 
   void prepare(const SodtParams& p, const std::vector<Vec3>& pos, const FaceList& faces, const RingTopology& topo) {
     if (!p.repair) return;
+    maxTurnCos2 = runTurnCos2(p);
     grid.reset(new InputGrid(pos, faces));
     if (DeviationInput::applies(p)) bound = p.maxDeviationRel * surfaceDiagonal(pos, topo);
   }
 };
 
+/// The largest turn, in degrees, of the live faces of a repaired mesh
+/// (SodtStats::maxFaceTurnDeg): a face the repair left as it was (the
+/// same corners at the same positions as in before / posBefore) from its
+/// input orientation refNormal (as largestFaceTurnDeg), a face it made or
+/// moved from the input face under its centroid (InputGrid::under), the
+/// reference its guard kept it to. Faces without area, or without a
+/// reference, are left out.
+inline double repairedFaceTurnDeg(const FaceList& faces, const std::vector<Vec3>& pos, const FaceList& before,
+                                  const std::vector<Vec3>& posBefore, const std::vector<Vec3>& refNormal,
+                                  const InputGrid& input) {
+  double worst = 0;
+  for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+    if (!faces.live[f]) continue;
+    const std::array<int, 3>& t = faces.tri[f];
+    const Vec3 area = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
+    if (area.SquaredNorm() == 0) continue;
+    bool same = f < before.tri.size() && before.live[f] && before.tri[f] == t;
+    for (int j = 0; j < 3 && same; ++j)
+      same = static_cast<std::size_t>(t[j]) < posBefore.size() && posBefore[t[j]] == pos[t[j]];
+    if (same) {
+      if (refNormal[f].SquaredNorm() > 0) worst = std::max(worst, angleBetween(area, refNormal[f]));
+      continue;
+    }
+    const InputGrid::Under u = input.under((pos[t[0]] + pos[t[1]] + pos[t[2]]) / 3.0, area,
+                                           std::numeric_limits<double>::infinity(), std::numeric_limits<long>::max());
+    if (u.found) worst = std::max(worst, angleBetween(area, u.normal));
+  }
+  return worst * kRadToDeg;
+}
+
 /// Runs the repair (SodtParams::repair) on the swept working mesh and
 /// resizes m for what it added and removed; cls grows by the added
 /// vertices (smooth, or crease on a feature edge) and moved receives them.
+/// faceNormal: the swept faces' input orientations, from which
+/// stats.maxFaceTurnDeg is measured again on the repaired mesh.
 template <class MeshType>
 void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const RepairInput& input,
-                       Classification& cls, std::vector<int>& moved, SodtStats& stats) {
+                       const std::vector<Vec3>& faceNormal, Classification& cls, std::vector<int>& moved,
+                       SodtStats& stats) {
   const std::size_t nv0 = w.pos.size();
   const std::vector<char> liveBefore = w.faces.live;
+  const FaceList facesBefore = w.faces;
+  const std::vector<Vec3> posBefore = w.pos;
   std::vector<char> movable(nv0, 0);
   for (int v : moved) movable[v] = 1;
   RepairSettings s;
@@ -725,6 +788,7 @@ void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const R
   s.featureRad = p.featureAngleDeg * kPi / 180;
   s.flipMaxRad = std::max(p.flipMaxDihedralDeg, 1.0) * kPi / 180;
   s.bound = input.bound;
+  s.maxTurnCos2 = input.maxTurnCos2;
   s.maxChanges = static_cast<long long>(nv0);
   LocalRepair repair(w.pos, w.faces, w.deleted, input.grid.get(), s);
   const bool classified = p.algorithm == Algorithm::Feature || p.algorithm == Algorithm::Denoise;
@@ -742,6 +806,7 @@ void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const R
     if (!cls.creaseDir.empty()) cls.creaseDir.push_back(Vec3(0, 0, 0));
   }
   for (std::size_t i = nv0; i < w.pos.size(); ++i) moved.push_back(static_cast<int>(i));
+  stats.maxFaceTurnDeg = repairedFaceTurnDeg(w.faces, w.pos, facesBefore, posBefore, faceNormal, *input.grid);
   resizeForRepair(m, w, nv0, liveBefore, p.selectedOnly);
   w.topo = buildRingTopology(w.faces, w.deleted);
 }
