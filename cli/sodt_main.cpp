@@ -206,9 +206,9 @@ int runSmooth(const SmoothOptions& o) {
       r.distance = distanceTo(m, ref, st.threads);
     else
       r.distance.measured = false;
-    // Face by face against the input: only while the faces correspond.
-    const bool sameFaces = st.verticesAdded == 0 && st.verticesRemoved == 0;
-    r.inverted = sameFaces ? sodt::countInvertedFaces(m, ref, st.threads) : -1;
+    // Face by face while the faces correspond, else each face against the
+    // input face under it.
+    r.inverted = sodt::countInvertedFaces(m, ref, st.threads, &r.invertedFaceByFace);
   }
   gStatus.end(false);
 
