@@ -2,7 +2,8 @@
 // Local repair (SodtParams::repair, repair.h): the mesh stays closed,
 // manifold and oriented, feature edges stay chains of edges, the smallest
 // angle rises, no face it makes turns beyond the bound from the input under
-// it, and nothing is done where nothing is needed.
+// it, added vertices get interpolated attributes, and nothing is done where
+// nothing is needed.
 #include "test_mesh.h"
 
 #include <sodt/remesh/repair.h>
@@ -16,6 +17,7 @@
 #include <array>
 #include <limits>
 #include <map>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -239,6 +241,96 @@ TEST(Repair, FacesItMakesKeepWithinTheTurnBoundOfTheInputUnderThem) {
       EXPECT_LE(st.maxFaceTurnDeg, p.maxFaceTurnDeg + 1e-9);
       EXPECT_EQ(sodt::countInvertedFaces(m, in), 0);
     }
+}
+
+TEST(Repair, AddedVerticesGetTheAttributesOfTheirEdgeInterpolated) {
+  // Every vertex gets random texture coordinates, colour and quality; the
+  // ones the repair adds must each be the same interpolation t of the two
+  // ends of an edge (original or added before them) in every attribute.
+  sodt::MeshD m;
+  sodt::loadMesh(testData("repair_fold_cone256.ply"), m);
+  std::mt19937 g(7);
+  for (auto& v : m.vert) {
+    v.T() = vcg::TexCoord2f(float(sodt_test::uniform(g, 0.1, 0.9)), float(sodt_test::uniform(g, 0.1, 0.9)));
+    for (int c = 0; c < 4; ++c) v.C()[c] = static_cast<unsigned char>(sodt_test::uniform(g, 10, 240));
+    v.Q() = float(sodt_test::uniform(g, 1, 2));
+  }
+  const std::size_t nv0 = m.vert.size();
+  sodt::SodtParams p;
+  p.repair = true;
+  p.threads = 1;
+  const sodt::SodtStats st = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  ASSERT_GT(st.verticesAdded, 0);
+  const auto interpolates = [&m](std::size_t v, std::size_t a, std::size_t b) {
+    const auto &V = m.vert[v], &A = m.vert[a], &B = m.vert[b];
+    const double du = double(B.cT().U()) - A.cT().U();
+    if (std::abs(du) < 1e-3) return false;
+    const double t = (double(V.cT().U()) - A.cT().U()) / du;
+    const auto lerp = [t](double x, double y) { return x + (y - x) * t; };
+    if (!(t >= -1e-6 && t <= 1 + 1e-6)) return false;
+    if (std::abs(lerp(A.cT().V(), B.cT().V()) - V.cT().V()) > 1e-3) return false;
+    if (std::abs(lerp(A.cQ(), B.cQ()) - V.cQ()) > 1e-3) return false;
+    for (int c = 0; c < 4; ++c)
+      if (std::abs(lerp(A.cC()[c], B.cC()[c]) - V.cC()[c]) > 1.0) return false;
+    return true;
+  };
+  int checked = 0;
+  for (std::size_t v = nv0; v < m.vert.size(); ++v) {
+    if (m.vert[v].IsD()) continue;
+    ++checked;
+    bool found = false;
+    for (std::size_t a = 0; a < v && !found; ++a)
+      for (std::size_t b = a + 1; b < v && !found; ++b) found = interpolates(v, a, b);
+    EXPECT_TRUE(found) << "added vertex " << v << ": texture coordinates " << m.vert[v].cT().U() << " "
+                       << m.vert[v].cT().V() << ", quality " << m.vert[v].cQ() << ", colour "
+                       << int(m.vert[v].cC()[0]) << " " << int(m.vert[v].cC()[1]) << " " << int(m.vert[v].cC()[2]);
+  }
+  EXPECT_GT(checked, 0);
+}
+
+/// A mesh type with per-wedge texture coordinates, which no split, collapse
+/// or flip can carry.
+struct WedgeTypes {
+  class Vertex;
+  class Face;
+  struct UsedTypes : public vcg::UsedTypes<vcg::Use<Vertex>::AsVertexType, vcg::Use<Face>::AsFaceType> {};
+  class Vertex : public vcg::Vertex<UsedTypes, vcg::vertex::Coord3d, vcg::vertex::Normal3d, vcg::vertex::VFAdj,
+                                    vcg::vertex::Mark, vcg::vertex::BitFlags> {};
+  class Face : public vcg::Face<UsedTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::FFAdj,
+                                vcg::face::VFAdj, vcg::face::Mark, vcg::face::BitFlags, vcg::face::WedgeTexCoord2f> {};
+  class Mesh : public vcg::tri::TriMesh<std::vector<Vertex>, std::vector<Face>> {};
+};
+
+TEST(Repair, IsRefusedOnPerWedgeTextureCoordinates) {
+  sodt::MeshD d;
+  sodt::loadMesh(testData("repair_fold_cone256.ply"), d);
+  WedgeTypes::Mesh m;
+  vcg::tri::Allocator<WedgeTypes::Mesh>::AddVertices(m, d.vert.size());
+  for (std::size_t i = 0; i < d.vert.size(); ++i) m.vert[i].P() = d.vert[i].cP();
+  for (const auto& f : d.face) {
+    sodt_test::addFace(m, int(f.cV(0) - &d.vert[0]), int(f.cV(1) - &d.vert[0]), int(f.cV(2) - &d.vert[0]));
+    for (int j = 0; j < 3; ++j) m.face.back().WT(j) = vcg::TexCoord2f(float(f.cP(j)[0]), float(f.cP(j)[1]));
+  }
+  const auto positions = sodt_test::positions(m);
+  const auto faces = sodt_test::faceIndices(m);
+  for (const bool flips : {false, true}) {
+    sodt::SodtParams p;
+    p.repair = true;
+    p.flips = flips;
+    try {
+      sodt::SodtSmoother<WedgeTypes::Mesh>::Apply(m, p);
+      ADD_FAILURE() << "the repair ran on per-wedge texture coordinates";
+    } catch (const sodt::InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("per-wedge"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(sodt_test::positions(m) == positions);
+    EXPECT_TRUE(sodt_test::faceIndices(m) == faces);
+    EXPECT_EQ(m.vert.size(), d.vert.size());
+  }
+  // Without repair and flips the connectivity stays and the wedges with it.
+  sodt::SodtParams p;
+  EXPECT_NO_THROW(sodt::SodtSmoother<WedgeTypes::Mesh>::Apply(m, p));
+  EXPECT_TRUE(sodt_test::faceIndices(m) == faces);
 }
 
 }  // namespace

@@ -2323,29 +2323,68 @@ TEST(CliKeeps, ObjTextureCoordinatesArePerVertexOrNamedAsDropped) {
   EXPECT_EQ(readFile(dir / "out.ply").find("texture_u"), std::string::npos);
 }
 
-TEST(CliKeeps, TextureCoordinatesAreLeftOutWhenTheRepairAddsVertices) {
-  // The core gives the vertices a repair adds no texture coordinates: OUT
-  // has none then, and says so, rather than coordinates nobody computed.
+TEST(CliKeeps, AttributesOfVerticesTheRepairAddsAreInterpolated) {
+  // Each vertex of the input gets its own random texture coordinates,
+  // colour and quality. A vertex of OUT either carries an input vertex's,
+  // or was added by the repair and holds the same interpolation t of two
+  // vertices' in every attribute (the ends of the edge it split), not
+  // coordinates nobody computed, white or quality 0.
   TempDir dir;
   sodt::MeshD m;
-  sodt::loadMesh(std::string(SODT_MESH_DIR) + "/plane_grid_open.ply", m);
-  for (auto& v : m.vert) v.T() = vcg::TexCoord2f(float(v.P()[0]), float(v.P()[1]));
+  sodt::loadMesh(std::string(SODT_TEST_DATA_DIR) + "/repair_fold_cone256.ply", m);
+  std::mt19937 g(11);
+  for (auto& v : m.vert) {
+    v.T() = vcg::TexCoord2f(float(uniform(g, 0.1, 0.9)), float(uniform(g, 0.1, 0.9)));
+    for (int c = 0; c < 3; ++c) v.C()[c] = static_cast<unsigned char>(uniform(g, 10, 240));
+    v.C()[3] = 255;
+    v.Q() = float(uniform(g, 1, 2));
+  }
   sodt::SaveOptions so;
-  so.vertexTexCoords = true;
+  so.vertexTexCoords = so.vertexColor = so.vertexQuality = true;
   sodt::saveMesh(dir / "in.ply", m, so);
   const RunResult r = runSodt({"smooth", dir / "in.ply", dir / "out.ply", "--repair", "--flips", "--report",
                                dir / "r.json"}, dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  const double added = jsonNumber(readFile(dir / "r.json"), "vertices_added");
-  const std::string out = readFile(dir / "out.ply");
-  if (added > 0) {
-    EXPECT_NE(r.err.find("'" + dir / "out.ply" + "' has no texture coordinates: --repair added " +
-                         std::to_string(int(added)) + " vertices"), std::string::npos) << r.err;
-    EXPECT_EQ(out.find("texture_u"), std::string::npos);
-  } else {  // a repair that adds nothing keeps them
-    EXPECT_EQ(r.err.find("texture"), std::string::npos) << r.err;
-    EXPECT_NE(out.find("texture_u"), std::string::npos);
+  ASSERT_GT(jsonNumber(readFile(dir / "r.json"), "vertices_added"), 0) << "the case needs added vertices";
+  EXPECT_EQ(r.err.find("texture"), std::string::npos) << r.err;
+  const std::string text = readFile(dir / "out.ply");
+  EXPECT_NE(text.find("property float texture_u\n"), std::string::npos);
+  sodt::MeshD out;
+  sodt::LoadInfo info;
+  sodt::loadMesh(dir / "out.ply", out, &info);
+  ASSERT_TRUE(info.vertexTexCoords && info.vertexColor && info.vertexQuality);
+  std::vector<const sodt::MeshD::VertexType*> known;  // the vertices an added one may interpolate
+  for (const auto& v : m.vert) known.push_back(&v);
+  for (const auto& v : out.vert) known.push_back(&v);
+  const auto same = [](const sodt::MeshD::VertexType& a, const sodt::MeshD::VertexType& b) {
+    return a.cT().U() == b.cT().U() && a.cT().V() == b.cT().V() && a.cQ() == b.cQ() && a.cC() == b.cC();
+  };
+  const auto interpolates = [](const sodt::MeshD::VertexType& v, const sodt::MeshD::VertexType& a,
+                               const sodt::MeshD::VertexType& b) {
+    const double du = double(b.cT().U()) - a.cT().U();
+    if (std::abs(du) < 1e-3) return false;
+    const double t = (double(v.cT().U()) - a.cT().U()) / du;
+    if (!(t >= -1e-6 && t <= 1 + 1e-6)) return false;
+    const auto lerp = [t](double x, double y) { return x + (y - x) * t; };
+    if (std::abs(lerp(a.cT().V(), b.cT().V()) - v.cT().V()) > 1e-3) return false;
+    if (std::abs(lerp(a.cQ(), b.cQ()) - v.cQ()) > 1e-3) return false;
+    for (int c = 0; c < 4; ++c)
+      if (std::abs(lerp(a.cC()[c], b.cC()[c]) - v.cC()[c]) > 1.0) return false;
+    return true;
+  };
+  int added = 0;
+  for (const auto& v : out.vert) {
+    bool carried = false;
+    for (const auto& u : m.vert) carried = carried || same(v, u);
+    if (carried) continue;
+    ++added;
+    bool found = false;
+    for (std::size_t a = 0; a < known.size() && !found; ++a)
+      for (std::size_t b = a + 1; b < known.size() && !found; ++b) found = interpolates(v, *known[a], *known[b]);
+    EXPECT_TRUE(found) << "texture coordinates " << v.cT().U() << " " << v.cT().V() << ", quality " << v.cQ()
+                       << ", colour " << int(v.cC()[0]) << " " << int(v.cC()[1]) << " " << int(v.cC()[2]);
   }
+  EXPECT_GT(added, 0);
 }
 
 /// The unit normal of the face of `in` under q: the nearest face and, of

@@ -555,8 +555,10 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& feature
                 "Feature edges (see feature angle) are never flipped or collapsed and are split along "
                 "themselves, corners and border vertices stay, the mesh stays manifold and oriented, "
                 "every change keeps the surface within the deviation bound of the input both ways, and "
-                "every face it makes or moves within the max face turn of the input face under it. The "
-                "report lists the triangles left below the target and why.");
+                "every face it makes or moves within the max face turn of the input face under it. Added "
+                "vertices get texture coordinates, colour and quality interpolated along the edge they "
+                "split; a mesh with per-wedge attributes is refused. The report lists the triangles left "
+                "below the target and why.");
   angle.bind("repairAngleDeg", &SodtParams::repairAngleDeg).keys("repairAngle", "repair_angle")
       .cli("--repair-angle", "DEG").dialog("Repair target angle (deg)").shownIn("degrees").range(0, 50)
       .describe("with repair: the smallest triangle angle the repair works towards");

@@ -8,7 +8,9 @@
 // corners never move, every change keeps the surface within the deviation
 // bound of the input both ways (input near the change -> output, output ->
 // input), and every face it makes or moves within the face-turn bound of
-// the input face under it.
+// the input face under it. The vertices it adds get their attributes
+// (texture coordinates, colour, quality) interpolated along the edge they
+// split.
 #pragma once
 
 #include "../maths/classify.h"
@@ -27,6 +29,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -52,6 +55,14 @@ struct RepairSettings {
   double maxTurnCos2 = 0;
   int maxRounds = 30;
   long long maxChanges = 0;  ///< vertices added plus removed, at most
+};
+
+/// Where the repair put a vertex it added: at parameter t of the edge a-b
+/// (a + t (b - a); then projected on the input), a and b working indices
+/// (vertices added before it may be among them).
+struct EdgePoint {
+  int a, b;
+  double t;
 };
 
 /// Counts of one repair.
@@ -83,6 +94,8 @@ class LocalRepair {
   RepairResult run();
 
   const std::vector<char>& newCrease() const { return newCrease_; }
+  /// Per added vertex, in order, the edge it split.
+  const std::vector<EdgePoint>& added() const { return added_; }
 
  private:
   enum Verdict { Done = 0, NoGain, Feature, Topology, OverBound };
@@ -185,6 +198,7 @@ class LocalRepair {
   std::unordered_map<std::uint64_t, int> bigAt_;  ///< slot(v, f) -> position of f in vf_[v], large stars only
   std::unordered_set<std::uint64_t> feature_;
   std::vector<char> newCrease_;
+  std::vector<EdgePoint> added_;
   std::vector<int> touched_;
   RepairResult r_;
 };
@@ -427,6 +441,7 @@ inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
   deleted_.push_back(0);
   role_.push_back(feat ? Role::Crease : Role::Free);
   newCrease_.push_back(feat ? 1 : 0);
+  added_.push_back({a, b, at});
   vf_.emplace_back();
   const int f3 = static_cast<int>(faces_.tri.size()), f4 = f3 + 1;
   faces_.tri[f1] = {a, m, c};
@@ -614,6 +629,7 @@ struct LocalRepair::Snapshot {
   std::vector<Vec3> pos;
   FaceList faces;
   std::vector<char> deleted, newCrease;
+  std::vector<EdgePoint> added;
   std::vector<Role> role;
   std::vector<std::vector<int>> vf;
   std::unordered_set<std::uint64_t> feature;
@@ -634,12 +650,12 @@ inline void LocalRepair::score(double& minAngle, std::size_t& below) const {
 }
 
 inline void LocalRepair::save(Snapshot& s) const {
-  s.pos = pos_, s.faces = faces_, s.deleted = deleted_, s.newCrease = newCrease_;
+  s.pos = pos_, s.faces = faces_, s.deleted = deleted_, s.newCrease = newCrease_, s.added = added_;
   s.role = role_, s.vf = vf_, s.feature = feature_, s.counts = r_;
 }
 
 inline void LocalRepair::restore(const Snapshot& s) {
-  pos_ = s.pos, faces_ = s.faces, deleted_ = s.deleted, newCrease_ = s.newCrease;
+  pos_ = s.pos, faces_ = s.faces, deleted_ = s.deleted, newCrease_ = s.newCrease, added_ = s.added;
   role_ = s.role, vf_ = s.vf, feature_ = s.feature, r_ = s.counts;
   indexLargeStars();
 }
@@ -768,10 +784,59 @@ inline double repairedFaceTurnDeg(const FaceList& faces, const std::vector<Vec3>
   return worst * kRadToDeg;
 }
 
+/// Gives the vertices a repair added to m (working indices nv0 on, m's
+/// order[i]) the per-vertex attributes m has, interpolated along the edge
+/// each split (added, in order: an edge end added before is set first):
+/// texture coordinates (the texture index of the nearer end), colour and
+/// quality. Normals are not set: writeBack computes them.
+template <class MeshType>
+void interpolateAddedVertices(MeshType& m, const std::vector<int>& order, std::size_t nv0,
+                              const std::vector<EdgePoint>& added) {
+  using VertexType = typename MeshType::VertexType;
+  const bool tex = vcg::tri::HasPerVertexTexCoord(m), color = vcg::tri::HasPerVertexColor(m),
+             quality = vcg::tri::HasPerVertexQuality(m);
+  if (!tex && !color && !quality) return;
+  for (std::size_t k = 0; k < added.size(); ++k) {
+    const EdgePoint& e = added[k];
+    VertexType& v = m.vert[order[nv0 + k]];
+    const VertexType &a = m.vert[order[e.a]], &b = m.vert[order[e.b]];
+    const double t = e.t;
+    const auto lerp = [t](double x, double y) { return x + (y - x) * t; };
+    if (tex) {
+      using TexScalar = typename VertexType::TexCoordType::ScalarType;
+      v.T().U() = static_cast<TexScalar>(lerp(a.cT().U(), b.cT().U()));
+      v.T().V() = static_cast<TexScalar>(lerp(a.cT().V(), b.cT().V()));
+      v.T().N() = t <= 0.5 ? a.cT().N() : b.cT().N();
+    }
+    if (color)
+      for (int c = 0; c < 4; ++c) {
+        const double x = std::round(lerp(a.cC()[c], b.cC()[c]));
+        v.C()[c] = static_cast<typename VertexType::ColorType::ScalarType>(std::min(255.0, std::max(0.0, x)));
+      }
+    if (quality) v.Q() = static_cast<typename VertexType::QualityType>(lerp(a.cQ(), b.cQ()));
+  }
+}
+
+/// Refuses a repair or flips on a mesh with per-wedge texture coordinates,
+/// normals or colours: they belong to the corners of faces, which splits,
+/// collapses and flips rewire, and they cannot be interpolated per vertex.
+/// \throw InvalidInput before anything is touched.
+template <class MeshType>
+void checkConnectivityMayChange(const MeshType& m, const SodtParams& p) {
+  if (!p.repair && !p.flips) return;
+  if (vcg::tri::HasPerWedgeTexCoord(m) || vcg::tri::HasPerWedgeNormal(m) || vcg::tri::HasPerWedgeColor(m))
+    throw InvalidInput(std::string(p.repair ? "the local repair" : "edge flips") +
+                       " would scramble the per-wedge texture coordinates, normals or colours of this mesh "
+                       "(they cannot be interpolated per vertex); the mesh was not changed. Turn " +
+                       (p.repair && p.flips ? "the repair and flips" : p.repair ? "the repair" : "flips") +
+                       " off, or remove the per-wedge attributes first");
+}
+
 /// Runs the repair (SodtParams::repair) on the swept working mesh and
-/// resizes m for what it added and removed; cls grows by the added
-/// vertices (smooth, or crease on a feature edge) and moved receives them.
-/// faceNormal: the swept faces' input orientations, from which
+/// resizes m for what it added and removed, with the added vertices'
+/// attributes interpolated (interpolateAddedVertices); cls grows by the
+/// added vertices (smooth, or crease on a feature edge) and moved receives
+/// them. faceNormal: the swept faces' input orientations, from which
 /// stats.maxFaceTurnDeg is measured again on the repaired mesh.
 template <class MeshType>
 void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const RepairInput& input,
@@ -808,6 +873,7 @@ void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const R
   for (std::size_t i = nv0; i < w.pos.size(); ++i) moved.push_back(static_cast<int>(i));
   stats.maxFaceTurnDeg = repairedFaceTurnDeg(w.faces, w.pos, facesBefore, posBefore, faceNormal, *input.grid);
   resizeForRepair(m, w, nv0, liveBefore, p.selectedOnly);
+  interpolateAddedVertices(m, w.order, nv0, repair.added());
   w.topo = buildRingTopology(w.faces, w.deleted);
 }
 
