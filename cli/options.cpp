@@ -199,8 +199,8 @@ const char* const kStatsIntro =
 const char* smoothNote(const sodt::ParamSpec& s) {
   const std::string f = s.field;
   if (f == "flips")
-    return "When the returned mesh has other faces than IN, the report's inverted_faces is null (it compares "
-           "face by face).";
+    return "When the returned mesh has other faces than IN, the report's inverted_faces compares each face "
+           "with the face of IN nearest its centroid instead of face by face.";
   if (f == "threads")
     return "OUT and the report are bit-identical for every N, apart from the report's seconds and threads.";
   if (f == "selectedOnly")
@@ -399,7 +399,8 @@ CommandLine::CommandLine() : app_(kMainHelp, "sodt") {
   statsCmd_->add_option("--reference", stats.reference,
                         "also hausdorff_rel and mean_distance_rel (sampled surface distances relative to REF's "
                         "bounding-box diagonal) and inverted_faces (faces turned by more than 90 degrees "
-                        "against REF; null unless REF has the same vertices and faces)")
+                        "against REF: face by face when REF has the same vertices and faces, else each "
+                        "face against the face of REF nearest its centroid)")
       ->type_name("REF");
   statsCmd_->add_option("--json", stats.json, "write the JSON to FILE instead of stdout")->type_name("FILE");
 }

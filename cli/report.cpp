@@ -281,12 +281,8 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
     std::printf("  face turn      at most %.3f deg from the input orientation (bound %s deg%s)\n", st.maxFaceTurnDeg,
                 numberText(o.params.maxFaceTurnDeg).c_str(),
                 o.params.guard == sodt::Guard::None || o.params.algorithm == sodt::Algorithm::Denoise ? ", unused" : "");
-  if (inverted >= 0)
-    std::printf("  inverted       %lld faces turned by more than 90 deg\n", inverted);
-  else
-    std::printf("  inverted       n/a (%s)\n", st.verticesAdded + st.verticesRemoved > 0 ? "vertices changed by repair"
-                                              : st.flips > 0                           ? "connectivity changed by flips"
-                                                                                       : "the faces differ from the input's");
+  std::printf("  inverted       %lld faces turned by more than 90 deg%s\n", inverted,
+              r.invertedFaceByFace ? "" : " from the input face under them (the faces differ from the input's)");
   std::printf("  vertex visits  moved %lld, backtracked %lld, Laplacian fallback %lld, rejected %lld, failed %lld, "
               "unchanged %lld; %lld repeated their previous visit (nothing in their star had moved)\n",
               st.moved, st.backtracked, st.fallbackMoves, st.rejected, st.failedSolves, st.unchanged, st.skipped);
@@ -315,7 +311,7 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
   if (o.params.flips)
     std::printf("  flips          %lld edges flipped (max dihedral %s deg)%s\n", st.flips,
                 numberText(o.params.flipMaxDihedralDeg).c_str(),
-                inverted >= 0 && st.flips > 0 ? "; the returned state has the input's connectivity" : "");
+                r.invertedFaceByFace && st.flips > 0 ? "; the returned state has the input's connectivity" : "");
   else
     std::printf("  flips          off\n");
   if (o.params.repair) printRepairSummary(o.params, st);
@@ -368,7 +364,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
           ? number((after.volume.volume - before.volume.volume) / std::fabs(before.volume.volume))
           : Json(nullptr);
   writeDistance(j, dist);
-  j["inverted_faces"] = inverted >= 0 ? Json(inverted) : Json(nullptr);
+  j["inverted_faces"] = inverted;
   j["max_face_turn_deg"] = number(st.maxFaceTurnDeg);
   if (o.params.algorithm == sodt::Algorithm::Filtered) {
     Json f;
@@ -449,10 +445,10 @@ std::string statsReport(const StatsOptions& o, MeshD& m, MeshD* ref, int threads
     list.push_back(Json{{"faces", c.faces}, {"vertices", c.vertices}, {"noise_estimate", number(c.noise.sigmaEdges)}});
   if (ref != nullptr) {
     const Distance d = distanceTo(m, *ref, threads);
-    const long long inv = (m.vn == ref->vn && m.fn == ref->fn) ? sodt::countInvertedFaces(m, *ref, threads) : -1;
+    const long long inv = sodt::countInvertedFaces(m, *ref, threads);
     j["reference"] = o.reference;
     writeDistance(j, d);
-    j["inverted_faces"] = inv >= 0 ? Json(inv) : Json(nullptr);
+    j["inverted_faces"] = inv;
   }
   return text(j);
 }

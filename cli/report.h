@@ -81,7 +81,11 @@ void saveClassMesh(sodt::PendingFile& f, MeshD& m, const sodt::Classification& c
 struct SmoothResult {
   Measures before, after;
   Distance distance;
-  long long inverted = -1;  ///< faces turned against the input; -1 when the faces differ
+  /// Faces turned by more than 90 degrees from the input (sodt::countInvertedFaces).
+  long long inverted = 0;
+  /// inverted was counted face by face (the returned mesh has the input's
+  /// faces), else each face against the input face under it.
+  bool invertedFaceByFace = true;
   sodt::SodtStats stats;
   sodt::Classification classes;
   double seconds = 0;       ///< the smoothing alone

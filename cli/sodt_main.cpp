@@ -149,10 +149,8 @@ std::string joined(const std::vector<std::string>& items, const char* sep) {
 }
 
 /// Warns, a line each, of what OUT does not keep of the input: what the
-/// loader did not read, what OUT's format has no place for, and texture
-/// coordinates left out because the repair added addedVertices vertices.
-void warnNotKept(const SmoothOptions& o, const MeshD& m, const sodt::LoadInfo& info, const sodt::SaveOptions& so,
-                 int addedVertices) {
+/// loader did not read, and what OUT's format has no place for.
+void warnNotKept(const SmoothOptions& o, const MeshD& m, const sodt::LoadInfo& info, const sodt::SaveOptions& so) {
   if (!info.dropped.empty())
     std::fprintf(stderr, "sodt: warning: '%s' holds what sodt does not read, so '%s' does not have it: %s\n",
                  o.in.c_str(), o.out.c_str(), joined(info.dropped, "; ").c_str());
@@ -160,9 +158,6 @@ void warnNotKept(const SmoothOptions& o, const MeshD& m, const sodt::LoadInfo& i
   if (!lost.empty())
     std::fprintf(stderr, "sodt: warning: '%s' does not keep the input's %s: its format has no place for them\n",
                  o.out.c_str(), joined(lost, ", ").c_str());
-  if (addedVertices > 0)
-    std::fprintf(stderr, "sodt: warning: '%s' has no texture coordinates: --repair added %d vertices, whose "
-                 "texture coordinates sodt does not interpolate\n", o.out.c_str(), addedVertices);
 }
 
 int runSmooth(const SmoothOptions& o) {
@@ -206,9 +201,9 @@ int runSmooth(const SmoothOptions& o) {
       r.distance = distanceTo(m, ref, st.threads);
     else
       r.distance.measured = false;
-    // Face by face against the input: only while the faces correspond.
-    const bool sameFaces = st.verticesAdded == 0 && st.verticesRemoved == 0;
-    r.inverted = sameFaces ? sodt::countInvertedFaces(m, ref, st.threads) : -1;
+    // Face by face while the faces correspond, else each face against the
+    // input face under it.
+    r.inverted = sodt::countInvertedFaces(m, ref, st.threads, &r.invertedFaceByFace);
   }
   gStatus.end(false);
 
@@ -218,10 +213,9 @@ int runSmooth(const SmoothOptions& o) {
   so.vertexColor = info.vertexColor;
   so.vertexSelection = info.vertexSelection;
   so.vertexNormals = info.vertexNormals;  // the core recomputed them for the new positions
-  // Each vertex carries its texture coordinates as it slides; vertices the
-  // repair adds get none (the core does not interpolate them).
-  const bool texCoordsLost = info.vertexTexCoords && st.verticesAdded > 0;
-  so.vertexTexCoords = info.vertexTexCoords && !texCoordsLost;
+  // Each vertex carries its texture coordinates as it slides; the core
+  // interpolates them for the vertices the repair adds.
+  so.vertexTexCoords = info.vertexTexCoords;
   sodt::saveMesh(*out, m, so);
   if (report) sodt::writeText(*report, smoothReport(o, m, r));
   if (classesOut) {
@@ -234,7 +228,7 @@ int runSmooth(const SmoothOptions& o) {
   if (report) report->commit();
 
   if (!o.quiet) printSmoothSummary(o, m, r);
-  if (!o.quiet) warnNotKept(o, m, info, so, texCoordsLost ? st.verticesAdded : 0);
+  if (!o.quiet) warnNotKept(o, m, info, so);
   if (!o.quiet && info.weldedCorners > 0)
     std::printf("  STL input      %lld corners with equal coordinates welded into %d vertices\n",
                 info.weldedCorners + m.vn, m.vn);

@@ -165,9 +165,24 @@ TEST(Metrics, InvertedFacesAgainstReference) {
   // push interior vertex (1,1) across its neighbour (2,2): its incident faces fold
   m.vert[5].P() = vcg::Point3d(0.9, 0.9, 0);
   EXPECT_GT(sodt::countInvertedFaces(m, ref), 0);
+  bool faceByFace = false;
+  EXPECT_GT(sodt::countInvertedFaces(m, ref, 1, &faceByFace), 0);
+  EXPECT_TRUE(faceByFace);
+  // Other faces over the same square: each against the reference face under
+  // it, which it faces as long as it is not turned over.
   Mesh other;
   sodt_test::makeGrid(other, 5, 0.0, 1);
-  EXPECT_EQ(sodt::countInvertedFaces(other, ref), -1);
+  EXPECT_EQ(sodt::countInvertedFaces(other, ref, 1, &faceByFace), 0);
+  EXPECT_FALSE(faceByFace);
+  for (auto& f : other.face) std::swap(f.V(1), f.V(2));
+  EXPECT_EQ(sodt::countInvertedFaces(other, ref), other.fn);
+  // Once one face differs, each face against the face under it: the
+  // turned-over face and the folded ones still count.
+  Mesh flipped;
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(flipped, m);
+  std::swap(flipped.face[0].V(1), flipped.face[0].V(2));
+  EXPECT_GT(sodt::countInvertedFaces(flipped, ref, 1, &faceByFace), sodt::countInvertedFaces(m, ref));
+  EXPECT_FALSE(faceByFace);
 }
 
 namespace {

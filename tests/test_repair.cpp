@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Local repair (SodtParams::repair, repair.h): the mesh stays closed,
 // manifold and oriented, feature edges stay chains of edges, the smallest
-// angle rises, and nothing is done where nothing is needed.
+// angle rises, no face it makes turns beyond the bound from the input under
+// it, added vertices get interpolated attributes, and nothing is done where
+// nothing is needed.
 #include "test_mesh.h"
 
 #include <sodt/remesh/repair.h>
+#include <sodt_io/io.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/prebuilt.h>
 
@@ -12,7 +15,10 @@
 
 #include <cmath>
 #include <array>
+#include <limits>
 #include <map>
+#include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -163,6 +169,168 @@ TEST(Repair, NeverLeavesAWorseMeshThanTheSweeps) {
   const sodt::SodtStats st = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
   EXPECT_EQ(st.verticesAdded + st.verticesRemoved + st.repairFlips, 0);
   EXPECT_TRUE(st.belowTarget.empty());
+}
+
+std::string testData(const char* name) { return std::string(SODT_TEST_DATA_DIR) + "/" + name; }
+
+Vec3 corner(const sodt::MeshD::FaceType& f, int j) { return Vec3::Construct(f.cP(j)); }
+
+/// The unit normal of the face of `in` under q, by brute force: the face
+/// nearest q and, of those as near up to rounding, the one best aligned
+/// with dir. Faces without area have no normal and are passed over.
+Vec3 inputNormalUnder(const sodt::MeshD& in, const Vec3& q, const Vec3& dir) {
+  std::vector<std::pair<double, Vec3>> faces;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& f : in.face) {
+    if (f.IsD()) continue;
+    const Vec3 a = sodt::doubleAreaVector(corner(f, 0), corner(f, 1), corner(f, 2));
+    if (a.SquaredNorm() == 0) continue;
+    const double d2 = sodt::pointTriangleDistance2(q, corner(f, 0), corner(f, 1), corner(f, 2));
+    faces.push_back({d2, a / a.Norm()});
+    nearest = std::min(nearest, d2);
+  }
+  Vec3 best(0, 0, 0);
+  double aligned = -std::numeric_limits<double>::infinity();
+  for (const auto& f : faces)
+    if (f.first <= nearest * (1 + 1e-9) + 1e-20 && f.second * dir > aligned) aligned = f.second * dir, best = f.second;
+  return best;
+}
+
+/// How far the live faces of m turn from the input surface under them
+/// (inputNormalUnder at their centroids).
+struct TurnFromInput {
+  double maxDeg = 0;   ///< largest angle
+  int facingAway = 0;  ///< faces more than 90 degrees from it
+};
+
+TurnFromInput turnFromInput(const sodt::MeshD& m, const sodt::MeshD& in) {
+  TurnFromInput t;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    const Vec3 a = sodt::doubleAreaVector(corner(f, 0), corner(f, 1), corner(f, 2));
+    const Vec3 n = inputNormalUnder(in, (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0, a);
+    const double deg = sodt::angleBetween(a, n) * 180 / sodt::kPi;
+    t.maxDeg = std::max(t.maxDeg, deg);
+    t.facingAway += deg > 90;
+  }
+  return t;
+}
+
+TEST(Repair, FacesItMakesKeepWithinTheTurnBoundOfTheInputUnderThem) {
+  // Issue 42: on a cone whose base is a fan of 256 needles, the splits,
+  // collapses and moves of the repair turned 89 base faces into the solid,
+  // and the face turn was measured before the repair.
+  const std::string cone = testData("repair_fold_cone256.ply");
+  sodt::MeshD in;
+  sodt::loadMesh(cone, in);
+  for (const bool flips : {false, true})
+    for (const sodt::Algorithm a : {sodt::Algorithm::Basic, sodt::Algorithm::Feature}) {
+      SCOPED_TRACE(std::string(sodt::toString(a)) + (flips ? " with flips" : ""));
+      sodt::MeshD m;
+      sodt::loadMesh(cone, m);
+      sodt::SodtParams p;
+      p.algorithm = a;
+      p.flips = flips;
+      p.repair = true;
+      p.threads = 1;
+      const sodt::SodtStats st = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+      ASSERT_GT(st.verticesAdded + st.verticesRemoved, 0) << "the case needs a repair that changes the mesh";
+      const TurnFromInput t = turnFromInput(m, in);
+      EXPECT_EQ(t.facingAway, 0);
+      EXPECT_LE(t.maxDeg, p.maxFaceTurnDeg + 1e-9);
+      EXPECT_LE(st.maxFaceTurnDeg, p.maxFaceTurnDeg + 1e-9);
+      EXPECT_EQ(sodt::countInvertedFaces(m, in), 0);
+    }
+}
+
+TEST(Repair, AddedVerticesGetTheAttributesOfTheirEdgeInterpolated) {
+  // Every vertex gets random texture coordinates, colour and quality; the
+  // ones the repair adds must each be the same interpolation t of the two
+  // ends of an edge (original or added before them) in every attribute.
+  sodt::MeshD m;
+  sodt::loadMesh(testData("repair_fold_cone256.ply"), m);
+  std::mt19937 g(7);
+  for (auto& v : m.vert) {
+    v.T() = vcg::TexCoord2f(float(sodt_test::uniform(g, 0.1, 0.9)), float(sodt_test::uniform(g, 0.1, 0.9)));
+    for (int c = 0; c < 4; ++c) v.C()[c] = static_cast<unsigned char>(sodt_test::uniform(g, 10, 240));
+    v.Q() = float(sodt_test::uniform(g, 1, 2));
+  }
+  const std::size_t nv0 = m.vert.size();
+  sodt::SodtParams p;
+  p.repair = true;
+  p.threads = 1;
+  const sodt::SodtStats st = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  ASSERT_GT(st.verticesAdded, 0);
+  const auto interpolates = [&m](std::size_t v, std::size_t a, std::size_t b) {
+    const auto &V = m.vert[v], &A = m.vert[a], &B = m.vert[b];
+    const double du = double(B.cT().U()) - A.cT().U();
+    if (std::abs(du) < 1e-3) return false;
+    const double t = (double(V.cT().U()) - A.cT().U()) / du;
+    const auto lerp = [t](double x, double y) { return x + (y - x) * t; };
+    if (!(t >= -1e-6 && t <= 1 + 1e-6)) return false;
+    if (std::abs(lerp(A.cT().V(), B.cT().V()) - V.cT().V()) > 1e-3) return false;
+    if (std::abs(lerp(A.cQ(), B.cQ()) - V.cQ()) > 1e-3) return false;
+    for (int c = 0; c < 4; ++c)
+      if (std::abs(lerp(A.cC()[c], B.cC()[c]) - V.cC()[c]) > 1.0) return false;
+    return true;
+  };
+  int checked = 0;
+  for (std::size_t v = nv0; v < m.vert.size(); ++v) {
+    if (m.vert[v].IsD()) continue;
+    ++checked;
+    bool found = false;
+    for (std::size_t a = 0; a < v && !found; ++a)
+      for (std::size_t b = a + 1; b < v && !found; ++b) found = interpolates(v, a, b);
+    EXPECT_TRUE(found) << "added vertex " << v << ": texture coordinates " << m.vert[v].cT().U() << " "
+                       << m.vert[v].cT().V() << ", quality " << m.vert[v].cQ() << ", colour "
+                       << int(m.vert[v].cC()[0]) << " " << int(m.vert[v].cC()[1]) << " " << int(m.vert[v].cC()[2]);
+  }
+  EXPECT_GT(checked, 0);
+}
+
+/// A mesh type with per-wedge texture coordinates, which no split, collapse
+/// or flip can carry.
+struct WedgeTypes {
+  class Vertex;
+  class Face;
+  struct UsedTypes : public vcg::UsedTypes<vcg::Use<Vertex>::AsVertexType, vcg::Use<Face>::AsFaceType> {};
+  class Vertex : public vcg::Vertex<UsedTypes, vcg::vertex::Coord3d, vcg::vertex::Normal3d, vcg::vertex::VFAdj,
+                                    vcg::vertex::Mark, vcg::vertex::BitFlags> {};
+  class Face : public vcg::Face<UsedTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::FFAdj,
+                                vcg::face::VFAdj, vcg::face::Mark, vcg::face::BitFlags, vcg::face::WedgeTexCoord2f> {};
+  class Mesh : public vcg::tri::TriMesh<std::vector<Vertex>, std::vector<Face>> {};
+};
+
+TEST(Repair, IsRefusedOnPerWedgeTextureCoordinates) {
+  sodt::MeshD d;
+  sodt::loadMesh(testData("repair_fold_cone256.ply"), d);
+  WedgeTypes::Mesh m;
+  vcg::tri::Allocator<WedgeTypes::Mesh>::AddVertices(m, d.vert.size());
+  for (std::size_t i = 0; i < d.vert.size(); ++i) m.vert[i].P() = d.vert[i].cP();
+  for (const auto& f : d.face) {
+    sodt_test::addFace(m, int(f.cV(0) - &d.vert[0]), int(f.cV(1) - &d.vert[0]), int(f.cV(2) - &d.vert[0]));
+    for (int j = 0; j < 3; ++j) m.face.back().WT(j) = vcg::TexCoord2f(float(f.cP(j)[0]), float(f.cP(j)[1]));
+  }
+  const auto positions = sodt_test::positions(m);
+  const auto faces = sodt_test::faceIndices(m);
+  for (const bool flips : {false, true}) {
+    sodt::SodtParams p;
+    p.repair = true;
+    p.flips = flips;
+    try {
+      sodt::SodtSmoother<WedgeTypes::Mesh>::Apply(m, p);
+      ADD_FAILURE() << "the repair ran on per-wedge texture coordinates";
+    } catch (const sodt::InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("per-wedge"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(sodt_test::positions(m) == positions);
+    EXPECT_TRUE(sodt_test::faceIndices(m) == faces);
+    EXPECT_EQ(m.vert.size(), d.vert.size());
+  }
+  // Without repair and flips the connectivity stays and the wedges with it.
+  sodt::SodtParams p;
+  EXPECT_NO_THROW(sodt::SodtSmoother<WedgeTypes::Mesh>::Apply(m, p));
+  EXPECT_TRUE(sodt_test::faceIndices(m) == faces);
 }
 
 }  // namespace

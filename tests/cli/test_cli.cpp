@@ -4,6 +4,7 @@
 // Meshes the binary writes are read back with the project's own loader.
 #include <gtest/gtest.h>
 
+#include <sodt/maths/geometry.h>
 #include <sodt_io/io.h>
 #include <sodt/mesh/output.h>
 #include <sodt/params.h>
@@ -955,12 +956,19 @@ TEST_F(CliTest, StatsAgainstItselfHasZeroDistance) {
   EXPECT_LE(jsonNumber(r.out, "hausdorff_rel"), 1e-12) << r.out;
   EXPECT_EQ(jsonNumber(r.out, "inverted_faces"), 0.0) << r.out;
 
-  // A reference with other counts: distances, but no face correspondence.
+  // A reference with other counts: each face against the reference's face
+  // under it (both spheres face out), and one turned inside out.
   const std::string other = dir_ / "other.off";
   writeFile(other, toOff(jitteredSphere(2, 0.0, 1u)));
   const RunResult o = runSodt({"stats", in_, "--reference", other}, dir_);
   ASSERT_EQ(o.exitCode, 0) << o.err;
-  EXPECT_NE(o.out.find("\"inverted_faces\": null"), std::string::npos) << o.out;
+  EXPECT_EQ(jsonNumber(o.out, "inverted_faces"), 0) << o.out;
+  SimpleMesh inside = jitteredSphere(2, 0.0, 1u);
+  for (int f = 0; f < inside.faces(); ++f) std::swap(inside.tri[3 * f + 1], inside.tri[3 * f + 2]);
+  writeFile(other, toOff(inside));
+  const RunResult i = runSodt({"stats", in_, "--reference", other}, dir_);
+  ASSERT_EQ(i.exitCode, 0) << i.err;
+  EXPECT_EQ(jsonNumber(i.out, "inverted_faces"), jsonNumber(i.out, "faces")) << i.out;
   EXPECT_LT(jsonNumber(o.out, "hausdorff_rel"), 0.1);
 }
 
@@ -1298,10 +1306,11 @@ TEST_F(CliTest, FlipsOnBundledBlobsChangeConnectivityOnly) {
   const std::string json = readFile(report);
   EXPECT_GT(jsonNumber(json, "flips"), 0) << json;
   EXPECT_NE(json.find("\"flips_enabled\": true"), std::string::npos) << json;
-  // The input's faces no longer correspond: no inverted-face count, but the
-  // connectivity-free measures are still there.
-  EXPECT_NE(json.find("\"inverted_faces\": null"), std::string::npos) << json;
-  EXPECT_NE(r.out.find("inverted       n/a (connectivity changed by flips)"), std::string::npos) << r.out;
+  // The input's faces no longer correspond: each face is checked against
+  // the input face under it instead.
+  EXPECT_EQ(jsonNumber(json, "inverted_faces"), 0) << json;
+  EXPECT_NE(r.out.find("inverted       0 faces turned by more than 90 deg from the input face under them"),
+            std::string::npos) << r.out;
   EXPECT_TRUE(std::isfinite(jsonNumber(json, "hausdorff_rel"))) << json;
   EXPECT_LT(jsonNumber(json, "hausdorff_rel"), 0.01) << json;
   EXPECT_TRUE(std::isfinite(jsonNumber(json, "volume_rel_change"))) << "still closed: " << json;
@@ -1330,7 +1339,7 @@ TEST_F(CliTest, FlipsOnBundledBlobsChangeConnectivityOnly) {
   ASSERT_EQ(s.exitCode, 0) << s.err;
   EXPECT_NE(s.out.find("\"closed\": true"), std::string::npos) << s.out;
   EXPECT_NEAR(jsonNumber(s.out, "min_angle"), lo1, 1e-9);
-  EXPECT_NE(s.out.find("\"inverted_faces\": null"), std::string::npos) << s.out;
+  EXPECT_EQ(jsonNumber(s.out, "inverted_faces"), 0) << s.out;
 
   // --classes-out holds OUT's vertices with valid codes (basic: all smooth).
   const ClassMesh c = readClassMesh(classes);
@@ -2437,28 +2446,126 @@ TEST(CliKeeps, ObjTextureCoordinatesArePerVertexOrNamedAsDropped) {
   EXPECT_EQ(readFile(dir / "out.ply").find("texture_u"), std::string::npos);
 }
 
-TEST(CliKeeps, TextureCoordinatesAreLeftOutWhenTheRepairAddsVertices) {
-  // The core gives the vertices a repair adds no texture coordinates: OUT
-  // has none then, and says so, rather than coordinates nobody computed.
+TEST(CliKeeps, AttributesOfVerticesTheRepairAddsAreInterpolated) {
+  // Each vertex of the input gets its own random texture coordinates,
+  // colour and quality. A vertex of OUT either carries an input vertex's,
+  // or was added by the repair and holds the same interpolation t of two
+  // vertices' in every attribute (the ends of the edge it split), not
+  // coordinates nobody computed, white or quality 0.
   TempDir dir;
   sodt::MeshD m;
-  sodt::loadMesh(std::string(SODT_MESH_DIR) + "/plane_grid_open.ply", m);
-  for (auto& v : m.vert) v.T() = vcg::TexCoord2f(float(v.P()[0]), float(v.P()[1]));
+  sodt::loadMesh(std::string(SODT_TEST_DATA_DIR) + "/repair_fold_cone256.ply", m);
+  std::mt19937 g(11);
+  for (auto& v : m.vert) {
+    v.T() = vcg::TexCoord2f(float(uniform(g, 0.1, 0.9)), float(uniform(g, 0.1, 0.9)));
+    for (int c = 0; c < 3; ++c) v.C()[c] = static_cast<unsigned char>(uniform(g, 10, 240));
+    v.C()[3] = 255;
+    v.Q() = float(uniform(g, 1, 2));
+  }
   sodt::SaveOptions so;
-  so.vertexTexCoords = true;
+  so.vertexTexCoords = so.vertexColor = so.vertexQuality = true;
   sodt::saveMesh(dir / "in.ply", m, so);
   const RunResult r = runSodt({"smooth", dir / "in.ply", dir / "out.ply", "--repair", "--flips", "--report",
                                dir / "r.json"}, dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  const double added = jsonNumber(readFile(dir / "r.json"), "vertices_added");
-  const std::string out = readFile(dir / "out.ply");
-  if (added > 0) {
-    EXPECT_NE(r.err.find("'" + dir / "out.ply" + "' has no texture coordinates: --repair added " +
-                         std::to_string(int(added)) + " vertices"), std::string::npos) << r.err;
-    EXPECT_EQ(out.find("texture_u"), std::string::npos);
-  } else {  // a repair that adds nothing keeps them
-    EXPECT_EQ(r.err.find("texture"), std::string::npos) << r.err;
-    EXPECT_NE(out.find("texture_u"), std::string::npos);
+  ASSERT_GT(jsonNumber(readFile(dir / "r.json"), "vertices_added"), 0) << "the case needs added vertices";
+  EXPECT_EQ(r.err.find("texture"), std::string::npos) << r.err;
+  const std::string text = readFile(dir / "out.ply");
+  EXPECT_NE(text.find("property float texture_u\n"), std::string::npos);
+  sodt::MeshD out;
+  sodt::LoadInfo info;
+  sodt::loadMesh(dir / "out.ply", out, &info);
+  ASSERT_TRUE(info.vertexTexCoords && info.vertexColor && info.vertexQuality);
+  std::vector<const sodt::MeshD::VertexType*> known;  // the vertices an added one may interpolate
+  for (const auto& v : m.vert) known.push_back(&v);
+  for (const auto& v : out.vert) known.push_back(&v);
+  const auto same = [](const sodt::MeshD::VertexType& a, const sodt::MeshD::VertexType& b) {
+    return a.cT().U() == b.cT().U() && a.cT().V() == b.cT().V() && a.cQ() == b.cQ() && a.cC() == b.cC();
+  };
+  const auto interpolates = [](const sodt::MeshD::VertexType& v, const sodt::MeshD::VertexType& a,
+                               const sodt::MeshD::VertexType& b) {
+    const double du = double(b.cT().U()) - a.cT().U();
+    if (std::abs(du) < 1e-3) return false;
+    const double t = (double(v.cT().U()) - a.cT().U()) / du;
+    if (!(t >= -1e-6 && t <= 1 + 1e-6)) return false;
+    const auto lerp = [t](double x, double y) { return x + (y - x) * t; };
+    if (std::abs(lerp(a.cT().V(), b.cT().V()) - v.cT().V()) > 1e-3) return false;
+    if (std::abs(lerp(a.cQ(), b.cQ()) - v.cQ()) > 1e-3) return false;
+    for (int c = 0; c < 4; ++c)
+      if (std::abs(lerp(a.cC()[c], b.cC()[c]) - v.cC()[c]) > 1.0) return false;
+    return true;
+  };
+  int added = 0;
+  for (const auto& v : out.vert) {
+    bool carried = false;
+    for (const auto& u : m.vert) carried = carried || same(v, u);
+    if (carried) continue;
+    ++added;
+    bool found = false;
+    for (std::size_t a = 0; a < known.size() && !found; ++a)
+      for (std::size_t b = a + 1; b < known.size() && !found; ++b) found = interpolates(v, *known[a], *known[b]);
+    EXPECT_TRUE(found) << "texture coordinates " << v.cT().U() << " " << v.cT().V() << ", quality " << v.cQ()
+                       << ", colour " << int(v.cC()[0]) << " " << int(v.cC()[1]) << " " << int(v.cC()[2]);
+  }
+  EXPECT_GT(added, 0);
+}
+
+/// The unit normal of the face of `in` under q: the nearest face and, of
+/// those as near up to rounding, the one best aligned with dir (brute
+/// force; faces without area are passed over).
+vcg::Point3d inputNormalUnder(const sodt::MeshD& in, const vcg::Point3d& q, const vcg::Point3d& dir) {
+  std::vector<std::pair<double, vcg::Point3d>> faces;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& f : in.face) {
+    if (f.IsD()) continue;
+    const vcg::Point3d a = (f.cP(1) - f.cP(0)) ^ (f.cP(2) - f.cP(0));
+    if (a.SquaredNorm() == 0) continue;
+    const sodt::Vec3 p = sodt::Vec3::Construct(q);
+    const double d2 = sodt::pointTriangleDistance2(p, sodt::Vec3::Construct(f.cP(0)), sodt::Vec3::Construct(f.cP(1)),
+                                                   sodt::Vec3::Construct(f.cP(2)));
+    faces.push_back({d2, a / a.Norm()});
+    nearest = std::min(nearest, d2);
+  }
+  vcg::Point3d best(0, 0, 0);
+  double aligned = -std::numeric_limits<double>::infinity();
+  for (const auto& f : faces)
+    if (f.first <= nearest * (1 + 1e-9) + 1e-20 && f.second * dir > aligned) aligned = f.second * dir, best = f.second;
+  return best;
+}
+
+TEST(CliRepair, ConeBaseStaysFacingOutAndTheReportMeasuresTheReturnedMesh) {
+  // Issue 42: --repair turned 89 of the cone's base faces into the solid,
+  // while the report said inverted_faces null and a largest face turn
+  // measured before the repair.
+  TempDir dir;
+  const std::string cone = std::string(SODT_TEST_DATA_DIR) + "/repair_fold_cone256.ply";
+  sodt::MeshD in;
+  sodt::loadMesh(cone, in);
+  for (const bool flips : {false, true}) {
+    SCOPED_TRACE(flips ? "--repair --flips" : "--repair");
+    std::vector<std::string> args = {"smooth", cone, dir / "out.ply", "--repair", "--report", dir / "r.json"};
+    if (flips) args.push_back("--flips");
+    const RunResult r = runSodt(args, dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string json = readFile(dir / "r.json");
+    ASSERT_GT(jsonNumber(json, "vertices_added") + jsonNumber(json, "vertices_removed"), 0) << json;
+    sodt::MeshD out;
+    sodt::loadMesh(dir / "out.ply", out);
+    int away = 0;
+    double worst = 0;
+    for (const auto& f : out.face) {
+      const vcg::Point3d a = (f.cP(1) - f.cP(0)) ^ (f.cP(2) - f.cP(0));
+      const vcg::Point3d n = inputNormalUnder(in, (f.cP(0) + f.cP(1) + f.cP(2)) / 3.0, a);
+      const double deg = vcg::math::ToDeg(vcg::Angle(a, n));
+      away += deg > 90;
+      worst = std::max(worst, deg);
+    }
+    EXPECT_EQ(away, 0);
+    EXPECT_LE(worst, 40 + 1e-9);
+    EXPECT_EQ(jsonNumber(json, "inverted_faces"), 0) << json;
+    EXPECT_LE(jsonNumber(json, "max_face_turn_deg"), 40 + 1e-9) << json;
+    EXPECT_NE(r.out.find("inverted       0 faces turned by more than 90 deg from the input face under them"),
+              std::string::npos) << r.out;
   }
 }
 

@@ -170,7 +170,7 @@ struct SodtParams {
 /// Why the repair left a triangle below its target (see repair.h).
 enum class RepairReason : int {
   Pinned = 0,       ///< its edges are features or end at fixed vertices, or no change improves it
-  Bound = 1,        ///< every change that would improve it leaves the deviation bound
+  Bound = 1,        ///< every change that would improve it leaves the deviation bound or the face-turn bound
   NonManifold = 2,  ///< a change would make the mesh non-manifold, or it lies at a border
   Budget = 3,       ///< the rounds or the budget of changed vertices ran out first
 };
@@ -560,9 +560,12 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& feature
                 "changes: collapse the short edge of a needle, flip or split the long edge of a cap or "
                 "sliver, and relax the changed neighbourhood with S-ODT (adds and removes vertices)",
                 "Feature edges (see feature angle) are never flipped or collapsed and are split along "
-                "themselves, corners and border vertices stay, the mesh stays manifold and oriented, and "
-                "every change keeps the surface within the deviation bound of the input both ways. The "
-                "report lists the triangles left below the target and why.");
+                "themselves, corners and border vertices stay, the mesh stays manifold and oriented, "
+                "every change keeps the surface within the deviation bound of the input both ways, and "
+                "every face it makes or moves within the max face turn of the input face under it. Added "
+                "vertices get texture coordinates, colour and quality interpolated along the edge they "
+                "split; a mesh with per-wedge attributes is refused. The report lists the triangles left "
+                "below the target and why.");
   angle.bind("repairAngleDeg", &SodtParams::repairAngleDeg).keys("repairAngle", "repair_angle")
       .cli("--repair-angle", "DEG").dialog("Repair target angle (deg)").shownIn("degrees").range(0, 50)
       .describe("with repair: the smallest triangle angle the repair works towards");

@@ -60,12 +60,15 @@ struct SodtSmoother {
   ///        interior vertices Smooth for Basic).
   /// \param tuning switches of speed alone: the result is the same for
   ///        every setting.
-  /// \throw InvalidInput for bad parameters, a non-finite coordinate or a
-  ///        mesh outside the sizes of checkMeshSize(); the mesh is untouched then.
+  /// \throw InvalidInput for bad parameters, a non-finite coordinate, a
+  ///        mesh outside the sizes of checkMeshSize(), or repair or flips on
+  ///        per-wedge attributes (checkConnectivityMayChange); the mesh is
+  ///        untouched then.
   static SodtStats Apply(MeshType& m, const SodtParams& params, vcg::CallBackPos* cb = nullptr,
                          Classification* classes = nullptr, SweepTuning tuning = SweepTuning()) {
     params.validate();
     checkFiniteCoordinates(m);
+    checkConnectivityMayChange(m, params);
     SodtStats stats;
     RunState<MeshType> r(m, params, cb, tuning, stats);
     r.w = loadWorkingMesh(m, params.selectedOnly);

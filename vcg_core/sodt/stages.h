@@ -277,7 +277,7 @@ template <class MeshType>
 struct RepairStage : Stage<MeshType> {
   void prepare(RunState<MeshType>& r) override { input_.prepare(r.p, r.w.pos, r.w.faces, r.w.topo); }
   void finish(RunState<MeshType>& r) override {
-    repairWorkingMesh(r.m, r.p, r.w, input_, r.outCls, r.moved, r.stats);
+    repairWorkingMesh(r.m, r.p, r.w, input_, r.faceNormal, r.outCls, r.moved, r.stats);
   }
 
  private:

@@ -3,6 +3,7 @@
 // angles, enclosed volume, Hausdorff distance, faces turned against a reference.
 #pragma once
 
+#include <sodt/guards/input_grid.h>
 #include <sodt/maths/box_tree.h>
 #include <sodt/maths/geometry.h>
 #include <sodt/maths/lanes.h>
@@ -1028,13 +1029,56 @@ double hausdorffRel(const MeshA& a, const MeshB& b) {
   return surfaceDistance(a, b).maxRel;
 }
 
-/// Number of faces whose normal turned by more than 90 degrees relative to
-/// the same face of ref, or that collapsed to zero area while the reference
-/// face had area. Returns -1 when the face lists do not correspond (different
-/// sizes or vertex indices). Counts on threads threads.
+/// Number of live faces of m that face away from the surface of ref under
+/// them: each against the face of ref nearest its centroid (of those
+/// equally near, up to rounding, the best aligned; InputGrid::under), for
+/// meshes whose faces do not correspond to ref's (after edge flips or a
+/// repair that added or removed vertices). A face counts when its normal
+/// and that face's are more than 90 degrees apart; faces without area face
+/// nowhere and are left out (the input's degenerate faces among them, which
+/// crease moves may shift along their line). maxTurnDeg, when not null,
+/// receives the largest angle between a face and its face of ref (0 when
+/// none). Counts on threads threads, with the same result for any number.
 template <class MeshType, class RefType>
-long long countInvertedFaces(const MeshType& m, const RefType& ref, int threads = 1) {
-  if (m.face.size() != ref.face.size() || m.vert.size() != ref.vert.size()) return -1;
+long long countFacesFacingAway(const MeshType& m, const RefType& ref, int threads = 1, double* maxTurnDeg = nullptr) {
+  std::vector<Vec3> pos(ref.vert.size());
+  for (std::size_t i = 0; i < ref.vert.size(); ++i) pos[i] = detail::toVec3<RefType>(ref.vert[i].cP());
+  const InputGrid under(pos, makeFaceList(ref));
+  std::vector<Vec3>().swap(pos);
+  long long n = 0;
+  double worst = 0;
+  const long long nf = static_cast<long long>(m.face.size());
+  threads = std::max(1, std::min(threads, 1024));
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : n) reduction(max : worst) \
+    if (threads > 1 && nf >= 8192)
+  for (long long i = 0; i < nf; ++i) {
+    const auto& f = m.face[static_cast<std::size_t>(i)];
+    if (f.IsD()) continue;
+    const Vec3 p[3] = {detail::toVec3<MeshType>(f.cP(0)), detail::toVec3<MeshType>(f.cP(1)),
+                       detail::toVec3<MeshType>(f.cP(2))};
+    const Vec3 area = doubleAreaVector(p[0], p[1], p[2]);
+    if (area.SquaredNorm() == 0) continue;
+    const InputGrid::Under u = under.under((p[0] + p[1] + p[2]) / 3.0, area, std::numeric_limits<double>::infinity(),
+                                           std::numeric_limits<long>::max());
+    if (!u.found) continue;
+    n += area * u.normal < 0;
+    worst = std::max(worst, angleBetween(area, u.normal));
+  }
+  if (maxTurnDeg) *maxTurnDeg = worst * kRadToDeg;
+  return n;
+}
+
+/// Number of faces of m turned by more than 90 degrees from ref: face by
+/// face while the face lists correspond (the same sizes and vertex
+/// indices), a face counting also when it collapsed to zero area while the
+/// face of ref had area; else each face against the face of ref under it
+/// (countFacesFacingAway). faceByFace, when not null, receives which of
+/// the two it measured. Counts on threads threads.
+template <class MeshType, class RefType>
+long long countInvertedFaces(const MeshType& m, const RefType& ref, int threads = 1, bool* faceByFace = nullptr) {
+  if (faceByFace) *faceByFace = false;
+  if (m.face.size() != ref.face.size() || m.vert.size() != ref.vert.size())
+    return countFacesFacingAway(m, ref, threads);
   long long n = 0;
   bool differ = false;
   const long long nf = static_cast<long long>(m.face.size());
@@ -1058,7 +1102,9 @@ long long countInvertedFaces(const MeshType& m, const RefType& ref, int threads 
     const double dot = nf3 * ng3;
     if (dot < 0 || (nf3.SquaredNorm() == 0 && ng3.SquaredNorm() > 0)) ++n;
   }
-  return differ ? -1 : n;
+  if (differ) return countFacesFacingAway(m, ref, threads);
+  if (faceByFace) *faceByFace = true;
+  return n;
 }
 
 }  // namespace sodt

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The input surface for local repair: a hashed uniform grid of its faces,
-// answering "is q within r of the input?" and "where is the input point
-// closest to q?". Unlike InputSurface (deviation.h), which reads the input
-// by vertex index, it needs no correspondence between the input and the
-// current mesh, so it still answers after vertices are added or removed.
+// The input surface for local repair and for the measures of a mesh whose
+// faces changed: a tree of its faces, answering "is q within r of the
+// input?", "where is the input point closest to q?" and "which way does the
+// input face under q face?". Unlike InputSurface (deviation.h), which reads
+// the input by vertex index, it needs no correspondence between the input
+// and the current mesh, so it still answers after vertices are added or
+// removed.
 #pragma once
 
 #include "../maths/box_tree.h"
@@ -15,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace sodt {
@@ -52,19 +55,28 @@ inline Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, 
 /// concurrently (within() remembers its last answers).
 class InputGrid {
  public:
-  /// Copies the live faces of faces over pos. cell: about the mean edge
-  /// length, the scale of the rounding margin of the boxes.
-  InputGrid(const std::vector<Vec3>& pos, const FaceList& faces, double cell) {
+  /// Copies the live faces of faces over pos. faceNormal (per face of
+  /// faces, or empty): the orientation under() answers for each face, a
+  /// unit vector or zero for none; when empty, each face's own unit normal
+  /// (zero for a face without area).
+  InputGrid(const std::vector<Vec3>& pos, const FaceList& faces, const std::vector<Vec3>& faceNormal = {}) {
     double largest = 0;
     for (std::size_t f = 0; f < faces.tri.size(); ++f) {
       if (!faces.live[f]) continue;
       const auto& t = faces.tri[f];
       tri_.push_back({pos[t[0]], pos[t[1]], pos[t[2]]});
+      if (faceNormal.empty()) {
+        const Vec3 a = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
+        const double len = a.Norm();
+        normal_.push_back(len > 0 && std::isfinite(len) ? a / len : Vec3(0, 0, 0));
+      } else {
+        normal_.push_back(faceNormal[f]);
+      }
       for (int v : t)
         for (int k = 0; k < 3; ++k) largest = std::max(largest, std::abs(pos[v][k]));
     }
-    (void)cell;
     tree_.build(static_cast<int>(tri_.size()), [this](int k, int j) { return tri_[k][j]; }, 1e-12 * largest);
+    tie2_ = 1e-20 * largest * largest;
   }
 
   /// A query opens at most this many nodes of the tree (an ordinary one
@@ -108,9 +120,53 @@ class InputGrid {
     return found && complete;
   }
 
+  /// The input face under a point: the one nearest it. Where several are
+  /// nearest (up to rounding: the point lies over their common edge or
+  /// corner), the one whose orientation is best aligned with the face
+  /// asking.
+  struct Under {
+    bool found = false;  ///< false: no face with an orientation within reach (or the query gave up)
+    Vec3 normal;         ///< its orientation (unit)
+  };
+
+  /// The input face under q (see Under) among those within reach of q
+  /// (infinity for any distance); dir: the area vector of the face asking.
+  /// Faces without orientation (zero normal) are passed over. Opens at most
+  /// maxNodes nodes of the tree (see kMaxNodes);
+  /// answers nothing found when it stops there. Safe to call concurrently.
+  Under under(const Vec3& q, const Vec3& dir, double reach, long maxNodes = kMaxNodes) const {
+    // The nearest distance, with a margin for the rounding of distances
+    // that are equal in exact arithmetic.
+    const auto window = [this](double d2) { return d2 + 1e-9 * d2 + tie2_; };
+    double best = std::numeric_limits<double>::infinity();
+    const double reach2 = reach * reach;
+    std::vector<std::pair<double, int>> near;  // oriented faces within the window of best when seen
+    const bool complete = tree_.search(q, [&] { return std::min(window(best), reach2); }, [&](int t) {
+      const double d2 = pointTriangleDistance2(q, tri_[t][0], tri_[t][1], tri_[t][2]);
+      if (d2 > reach2 || normal_[t].SquaredNorm() == 0) return false;
+      if (d2 <= window(best)) {
+        best = std::min(best, d2);
+        near.push_back({d2, t});
+      }
+      return false;
+    }, maxNodes);
+    Under u;
+    if (!complete || near.empty()) return u;
+    double aligned = -std::numeric_limits<double>::infinity();
+    for (const auto& c : near)
+      if (c.first <= window(best) && normal_[c.second] * dir > aligned) {
+        aligned = normal_[c.second] * dir;
+        u.normal = normal_[c.second];
+      }
+    u.found = true;
+    return u;
+  }
+
  private:
   static constexpr int kRecent = 4;
   std::vector<std::array<Vec3, 3>> tri_;
+  std::vector<Vec3> normal_;  ///< per triangle of tri_, its orientation for under()
+  double tie2_ = 0;           ///< squared distances closer than this are equal (rounding)
   BoxTree tree_;
   mutable int recent_[kRecent] = {-1, -1, -1, -1};  ///< the last triangles within() found (not thread-safe)
   mutable int next_ = 0;

@@ -5,14 +5,18 @@
 // the changed neighbourhood with S-ODT under the guards, until no triangle
 // is below the target or nothing more can be done. Feature edges (sharper
 // than the feature angle, or along a crease) are never flipped or collapsed,
-// corners never move, and every change keeps the surface within the
-// deviation bound of the input both ways (input near the change -> output,
-// output -> input).
+// corners never move, every change keeps the surface within the deviation
+// bound of the input both ways (input near the change -> output, output ->
+// input), and every face it makes or moves within the face-turn bound of
+// the input face under it. The vertices it adds get their attributes
+// (texture coordinates, colour, quality) interpolated along the edge they
+// split.
 #pragma once
 
 #include "../maths/classify.h"
 #include "flips.h"
 #include "../maths/geometry.h"
+#include "../guards/guarded_move.h"
 #include "../guards/input_grid.h"
 #include "../maths/local_solve.h"
 #include "../params.h"
@@ -25,6 +29,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -44,8 +49,20 @@ struct RepairSettings {
   double featureRad = 30 * kPi / 180;  ///< edges whose faces turn more are features
   double flipMaxRad = 20 * kPi / 180;  ///< flips only across flatter edges
   double bound = 0;                    ///< distance bound, both ways (0: none)
+  /// Squared cosine of the largest turn of a face the repair makes or moves
+  /// from the input face under it (faceTurnCos2; 0: 90 degrees, the sign
+  /// test alone).
+  double maxTurnCos2 = 0;
   int maxRounds = 30;
   long long maxChanges = 0;  ///< vertices added plus removed, at most
+};
+
+/// Where the repair put a vertex it added: at parameter t of the edge a-b
+/// (a + t (b - a); then projected on the input), a and b working indices
+/// (vertices added before it may be among them).
+struct EdgePoint {
+  int a, b;
+  double t;
 };
 
 /// Counts of one repair.
@@ -77,6 +94,8 @@ class LocalRepair {
   RepairResult run();
 
   const std::vector<char>& newCrease() const { return newCrease_; }
+  /// Per added vertex, in order, the edge it split.
+  const std::vector<EdgePoint>& added() const { return added_; }
 
  private:
   enum Verdict { Done = 0, NoGain, Feature, Topology, OverBound };
@@ -108,6 +127,9 @@ class LocalRepair {
   bool nearInput(const std::vector<std::array<Vec3, 3>>& tris) const;
   /// q lies within the bound of one of tris: the input point q is not cut off.
   bool covered(const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris) const;
+  /// Each of tris has area and keeps within the face-turn bound of the
+  /// input face under its centroid (InputGrid::under).
+  bool keepsTurn(const std::vector<std::array<Vec3, 3>>& tris) const;
   /// Adds f to v's faces. A star larger than kRepairMaxStar keeps where
   /// each face is (bigAt_), so that removing one costs O(1), not O(n).
   void addToVf(int v, int f) {
@@ -176,6 +198,7 @@ class LocalRepair {
   std::unordered_map<std::uint64_t, int> bigAt_;  ///< slot(v, f) -> position of f in vf_[v], large stars only
   std::unordered_set<std::uint64_t> feature_;
   std::vector<char> newCrease_;
+  std::vector<EdgePoint> added_;
   std::vector<int> touched_;
   RepairResult r_;
 };
@@ -285,9 +308,23 @@ inline bool LocalRepair::covered(const Vec3& q, const std::vector<std::array<Vec
   return false;
 }
 
+inline bool LocalRepair::keepsTurn(const std::vector<std::array<Vec3, 3>>& tris) const {
+  if (!input_) return true;
+  // The faces already lie within the bound of the input (nearInput).
+  const double reach = s_.bound > 0 ? s_.bound : std::numeric_limits<double>::infinity();
+  for (const auto& t : tris) {
+    const Vec3 a = doubleAreaVector(t[0], t[1], t[2]);
+    if (!(a.SquaredNorm() > 0)) return false;
+    const InputGrid::Under u = input_->under((t[0] + t[1] + t[2]) / 3.0, a, reach);
+    if (!u.found || turnsBeyond(a, u.normal, s_.maxTurnCos2)) return false;
+  }
+  return true;
+}
+
 /// Edge a-b of faces (a, b, c) and (b, a, d) becomes c-d, faces (a, d, c)
-/// and (d, b, c), under flipPass's rules, the feature edges of this repair
-/// and the two-sided bound (the old edge's midpoint stays covered).
+/// and (d, b, c), under flipPass's rules, the feature edges of this repair,
+/// the two-sided bound (the old edge's midpoint stays covered) and the
+/// face-turn bound.
 inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   if (isFeature(a, b)) return Feature;
   int f1, f2;
@@ -305,7 +342,7 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   const double after = std::min(triangleMinAngle(pa, pd, pc), triangleMinAngle(pd, pb, pc));
   if (!(after > before + 1e-9)) return NoGain;
   const std::vector<std::array<Vec3, 3>> made = {{pa, pd, pc}, {pd, pb, pc}};
-  if (!nearInput(made) || !covered((pa + pb) * 0.5, made)) return OverBound;
+  if (!nearInput(made) || !covered((pa + pb) * 0.5, made) || !keepsTurn(made)) return OverBound;
   faces_.tri[f1] = {a, d, c};
   faces_.tri[f2] = {d, b, c};
   removeFromVf(a, f2);
@@ -321,7 +358,8 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
 /// a-b is an interior edge whose ends share no neighbour but the two
 /// opposite vertices (the link condition: the mesh stays manifold), no
 /// face folds or turns by more than 45 degrees, the smallest angle around
-/// grows, and the new faces stay near the input while covering a.
+/// grows, and the new faces stay near the input while covering a, and
+/// within the face-turn bound of the input under them.
 inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
   if (role_[a] != Role::Free) return Feature;
   int f1, f2;
@@ -354,7 +392,7 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
     made.push_back(u);
   }
   if (!(after > before)) return NoGain;
-  if (!nearInput(made) || !covered(pos_[a], made)) return OverBound;
+  if (!nearInput(made) || !covered(pos_[a], made) || !keepsTurn(made)) return OverBound;
   for (int f : vf_[a]) {
     if (f == f1 || f == f2) continue;
     for (int& v : faces_.tri[f])
@@ -378,7 +416,7 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
 /// Splits interior edge a-b of faces (a, b, c) and (b, a, d) at a new
 /// vertex m (the last vertex), at a + at (b - a): on the edge for a
 /// feature edge (it stays a chain of feature edges), else at the input
-/// point closest to it.
+/// point closest to it; the four faces must keep within both bounds.
 inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
   int f1, f2;
   if (!interiorEdge(a, b, f1, f2)) return Topology;
@@ -397,12 +435,13 @@ inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
         std::max({(t[1] - t[0]).SquaredNorm(), (t[2] - t[1]).SquaredNorm(), (t[0] - t[2]).SquaredNorm()});
     if (!(n.Norm() > kCollapse * longest) || !(n * (k < 2 ? o1 : o2) > 0)) return NoGain;
   }
-  if (!nearInput(made)) return OverBound;
+  if (!nearInput(made) || !keepsTurn(made)) return OverBound;
   const int m = static_cast<int>(pos_.size());
   pos_.push_back(p);
   deleted_.push_back(0);
   role_.push_back(feat ? Role::Crease : Role::Free);
   newCrease_.push_back(feat ? 1 : 0);
+  added_.push_back({a, b, at});
   vf_.emplace_back();
   const int f3 = static_cast<int>(faces_.tri.size()), f4 = f3 + 1;
   faces_.tri[f1] = {a, m, c};
@@ -537,7 +576,8 @@ inline bool LocalRepair::orderedRing(int v, std::vector<int>& ring) const {
 /// feature neighbours; the step halves up to three times, then the
 /// tangential Laplacian step is tried. A step is taken when no face folds
 /// nor gets a smaller smallest angle than the star had, the star stays
-/// near the input and covers v's old position.
+/// near the input, covers v's old position and keeps within the face-turn
+/// bound of the input under it.
 inline bool LocalRepair::relax(int v) {
   if (deleted_[v] || role_[v] == Role::Fixed || vf_[v].size() > kRepairMaxStar) return false;
   std::vector<int> ring;
@@ -576,7 +616,7 @@ inline bool LocalRepair::relax(int v) {
     std::vector<std::array<Vec3, 3>> made;
     for (std::size_t k = 0; k < st.size(); ++k) made.push_back({y, st.at(k), st.at(k + 1)});
     if (input_ && s_.bound > 0 && !input_->within(y, s_.bound)) continue;
-    if (!nearInput(made) || !covered(st.center, made)) continue;
+    if (!nearInput(made) || !covered(st.center, made) || !keepsTurn(made)) continue;
     pos_[v] = y;
     ++r_.relaxMoves;
     return true;
@@ -589,6 +629,7 @@ struct LocalRepair::Snapshot {
   std::vector<Vec3> pos;
   FaceList faces;
   std::vector<char> deleted, newCrease;
+  std::vector<EdgePoint> added;
   std::vector<Role> role;
   std::vector<std::vector<int>> vf;
   std::unordered_set<std::uint64_t> feature;
@@ -609,12 +650,12 @@ inline void LocalRepair::score(double& minAngle, std::size_t& below) const {
 }
 
 inline void LocalRepair::save(Snapshot& s) const {
-  s.pos = pos_, s.faces = faces_, s.deleted = deleted_, s.newCrease = newCrease_;
+  s.pos = pos_, s.faces = faces_, s.deleted = deleted_, s.newCrease = newCrease_, s.added = added_;
   s.role = role_, s.vf = vf_, s.feature = feature_, s.counts = r_;
 }
 
 inline void LocalRepair::restore(const Snapshot& s) {
-  pos_ = s.pos, faces_ = s.faces, deleted_ = s.deleted, newCrease_ = s.newCrease;
+  pos_ = s.pos, faces_ = s.faces, deleted_ = s.deleted, newCrease_ = s.newCrease, added_ = s.added;
   role_ = s.role, vf_ = s.vf, feature_ = s.feature, r_ = s.counts;
   indexLargeStars();
 }
@@ -696,37 +737,115 @@ inline RepairResult LocalRepair::run() {
   return r_;
 }
 
-/// The input the repair keeps to: its faces, hashed (taken before the
-/// first sweep), and the distance bound both ways (0 for none: a run
-/// without the deviation guard, or Denoise, which leaves its input).
+/// The input the repair keeps to: its faces in a tree (taken before the
+/// first sweep), each with its own normal, the distance bound both ways (0
+/// for none: a run without the deviation guard, or Denoise, which leaves
+/// its input) and the face-turn bound (runTurnCos2).
 struct RepairInput {
   std::unique_ptr<InputGrid> grid;
   double bound = 0;
+  double maxTurnCos2 = 0;
 
   void prepare(const SodtParams& p, const std::vector<Vec3>& pos, const FaceList& faces, const RingTopology& topo) {
     if (!p.repair) return;
-    double sum = 0;
-    long long n = 0;
-    for (std::size_t f = 0; f < faces.tri.size(); ++f) {
-      if (!faces.live[f]) continue;
-      const auto& t = faces.tri[f];
-      for (int j = 0; j < 3; ++j, ++n) sum += (pos[t[(j + 1) % 3]] - pos[t[j]]).Norm();
-    }
-    const double diag = surfaceDiagonal(pos, topo);
-    const double cell = n > 0 && sum > 0 ? sum / double(n) : diag > 0 ? diag : 1.0;
-    grid.reset(new InputGrid(pos, faces, cell));
-    if (DeviationInput::applies(p)) bound = p.maxDeviationRel * diag;
+    maxTurnCos2 = runTurnCos2(p);
+    grid.reset(new InputGrid(pos, faces));
+    if (DeviationInput::applies(p)) bound = p.maxDeviationRel * surfaceDiagonal(pos, topo);
   }
 };
 
+/// The largest turn, in degrees, of the live faces of a repaired mesh
+/// (SodtStats::maxFaceTurnDeg): a face the repair left as it was (the
+/// same corners at the same positions as in before / posBefore) from its
+/// input orientation refNormal (as largestFaceTurnDeg), a face it made or
+/// moved from the input face under its centroid (InputGrid::under), the
+/// reference its guard kept it to. Faces without area, or without a
+/// reference, are left out.
+inline double repairedFaceTurnDeg(const FaceList& faces, const std::vector<Vec3>& pos, const FaceList& before,
+                                  const std::vector<Vec3>& posBefore, const std::vector<Vec3>& refNormal,
+                                  const InputGrid& input) {
+  double worst = 0;
+  for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+    if (!faces.live[f]) continue;
+    const std::array<int, 3>& t = faces.tri[f];
+    const Vec3 area = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
+    if (area.SquaredNorm() == 0) continue;
+    bool same = f < before.tri.size() && before.live[f] && before.tri[f] == t;
+    for (int j = 0; j < 3 && same; ++j)
+      same = static_cast<std::size_t>(t[j]) < posBefore.size() && posBefore[t[j]] == pos[t[j]];
+    if (same) {
+      if (refNormal[f].SquaredNorm() > 0) worst = std::max(worst, angleBetween(area, refNormal[f]));
+      continue;
+    }
+    const InputGrid::Under u = input.under((pos[t[0]] + pos[t[1]] + pos[t[2]]) / 3.0, area,
+                                           std::numeric_limits<double>::infinity(), std::numeric_limits<long>::max());
+    if (u.found) worst = std::max(worst, angleBetween(area, u.normal));
+  }
+  return worst * kRadToDeg;
+}
+
+/// Gives the vertices a repair added to m (working indices nv0 on, m's
+/// order[i]) the per-vertex attributes m has, interpolated along the edge
+/// each split (added, in order: an edge end added before is set first):
+/// texture coordinates (the texture index of the nearer end), colour and
+/// quality. Normals are not set: writeBack computes them.
+template <class MeshType>
+void interpolateAddedVertices(MeshType& m, const std::vector<int>& order, std::size_t nv0,
+                              const std::vector<EdgePoint>& added) {
+  using VertexType = typename MeshType::VertexType;
+  const bool tex = vcg::tri::HasPerVertexTexCoord(m), color = vcg::tri::HasPerVertexColor(m),
+             quality = vcg::tri::HasPerVertexQuality(m);
+  if (!tex && !color && !quality) return;
+  for (std::size_t k = 0; k < added.size(); ++k) {
+    const EdgePoint& e = added[k];
+    VertexType& v = m.vert[order[nv0 + k]];
+    const VertexType &a = m.vert[order[e.a]], &b = m.vert[order[e.b]];
+    const double t = e.t;
+    const auto lerp = [t](double x, double y) { return x + (y - x) * t; };
+    if (tex) {
+      using TexScalar = typename VertexType::TexCoordType::ScalarType;
+      v.T().U() = static_cast<TexScalar>(lerp(a.cT().U(), b.cT().U()));
+      v.T().V() = static_cast<TexScalar>(lerp(a.cT().V(), b.cT().V()));
+      v.T().N() = t <= 0.5 ? a.cT().N() : b.cT().N();
+    }
+    if (color)
+      for (int c = 0; c < 4; ++c) {
+        const double x = std::round(lerp(a.cC()[c], b.cC()[c]));
+        v.C()[c] = static_cast<typename VertexType::ColorType::ScalarType>(std::min(255.0, std::max(0.0, x)));
+      }
+    if (quality) v.Q() = static_cast<typename VertexType::QualityType>(lerp(a.cQ(), b.cQ()));
+  }
+}
+
+/// Refuses a repair or flips on a mesh with per-wedge texture coordinates,
+/// normals or colours: they belong to the corners of faces, which splits,
+/// collapses and flips rewire, and they cannot be interpolated per vertex.
+/// \throw InvalidInput before anything is touched.
+template <class MeshType>
+void checkConnectivityMayChange(const MeshType& m, const SodtParams& p) {
+  if (!p.repair && !p.flips) return;
+  if (vcg::tri::HasPerWedgeTexCoord(m) || vcg::tri::HasPerWedgeNormal(m) || vcg::tri::HasPerWedgeColor(m))
+    throw InvalidInput(std::string(p.repair ? "the local repair" : "edge flips") +
+                       " would scramble the per-wedge texture coordinates, normals or colours of this mesh "
+                       "(they cannot be interpolated per vertex); the mesh was not changed. Turn " +
+                       (p.repair && p.flips ? "the repair and flips" : p.repair ? "the repair" : "flips") +
+                       " off, or remove the per-wedge attributes first");
+}
+
 /// Runs the repair (SodtParams::repair) on the swept working mesh and
-/// resizes m for what it added and removed; cls grows by the added
-/// vertices (smooth, or crease on a feature edge) and moved receives them.
+/// resizes m for what it added and removed, with the added vertices'
+/// attributes interpolated (interpolateAddedVertices); cls grows by the
+/// added vertices (smooth, or crease on a feature edge) and moved receives
+/// them. faceNormal: the swept faces' input orientations, from which
+/// stats.maxFaceTurnDeg is measured again on the repaired mesh.
 template <class MeshType>
 void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const RepairInput& input,
-                       Classification& cls, std::vector<int>& moved, SodtStats& stats) {
+                       const std::vector<Vec3>& faceNormal, Classification& cls, std::vector<int>& moved,
+                       SodtStats& stats) {
   const std::size_t nv0 = w.pos.size();
   const std::vector<char> liveBefore = w.faces.live;
+  const FaceList facesBefore = w.faces;
+  const std::vector<Vec3> posBefore = w.pos;
   std::vector<char> movable(nv0, 0);
   for (int v : moved) movable[v] = 1;
   RepairSettings s;
@@ -734,6 +853,7 @@ void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const R
   s.featureRad = p.featureAngleDeg * kPi / 180;
   s.flipMaxRad = std::max(p.flipMaxDihedralDeg, 1.0) * kPi / 180;
   s.bound = input.bound;
+  s.maxTurnCos2 = input.maxTurnCos2;
   s.maxChanges = static_cast<long long>(nv0);
   LocalRepair repair(w.pos, w.faces, w.deleted, input.grid.get(), s);
   const bool classified = p.algorithm == Algorithm::Feature || p.algorithm == Algorithm::Denoise;
@@ -751,7 +871,9 @@ void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const R
     if (!cls.creaseDir.empty()) cls.creaseDir.push_back(Vec3(0, 0, 0));
   }
   for (std::size_t i = nv0; i < w.pos.size(); ++i) moved.push_back(static_cast<int>(i));
+  stats.maxFaceTurnDeg = repairedFaceTurnDeg(w.faces, w.pos, facesBefore, posBefore, faceNormal, *input.grid);
   resizeForRepair(m, w, nv0, liveBefore, p.selectedOnly);
+  interpolateAddedVertices(m, w.order, nv0, repair.added());
   w.topo = buildRingTopology(w.faces, w.deleted);
 }
 
