@@ -82,7 +82,7 @@ struct Metrics {
   bool closed = false;                         ///< closed and consistently oriented
   double volume = kNaN;                        ///< enclosed volume when closed
   double volumeChange = kNaN;                  ///< (volume - input volume) / input volume, both closed
-  long long inverted = -2;  ///< faces turned > 90 deg against the input; -1: other connectivity; -2: not measured
+  long long inverted = -2;  ///< faces turned > 90 deg from the input (face by face, or against the input face under them); -2: not measured
   /// In-process runs with flips or repair (-1 otherwise): edges flipped,
   /// vertices the repair added and removed (SodtStats), and the triangles it
   /// left below its target angle.
