@@ -272,6 +272,11 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
     std::printf("  filter         %s\n", sodt::describe(st.filter).c_str());
     std::printf("  restored       %d smooth vertices set back on the denoised surface after the sweeps\n",
                 st.restoredVertices);
+    if (o.params.maxDeviationRel > 0)
+      std::printf("  sweep bound    %.4g%% of the diagonal from the denoised surface%s\n",
+                  100.0 * st.filteredSweepBoundRel,
+                  st.filteredSweepBoundRel > o.params.maxDeviationRel ? " (half the noise level: above --max-deviation)"
+                                                                       : "");
   }
   if (o.params.algorithm == sodt::Algorithm::Filtered && o.params.guard != sodt::Guard::None)
     std::printf("  face turn      at most %.3f deg from the denoised surface's orientation (bound %s deg for the "
@@ -383,6 +388,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
     f["risk"] = number(st.filter.risk);
     f["risk_unfiltered"] = number(st.filter.riskNone);
     f["restored_vertices"] = st.restoredVertices;
+    f["sweep_bound_percent"] = number(100.0 * st.filteredSweepBoundRel);
     j["filter"] = f;
   }
   j["moved"] = st.moved;

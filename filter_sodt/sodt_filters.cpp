@@ -411,6 +411,7 @@ Report smoothingReport(const CMeshO& m, const SmoothingRun& run) {
     r["filter_risk"] = s.filter.risk;
     r["filter_risk_unfiltered"] = s.filter.riskNone;
     r["filter_restored_vertices"] = s.restoredVertices;
+    r["filter_sweep_bound_percent"] = 100.0 * s.filteredSweepBoundRel;
   }
   return r;
 }

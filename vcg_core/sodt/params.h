@@ -283,6 +283,9 @@ struct SodtStats {
   /// Algorithm::Filtered: smooth vertices set back on the denoised
   /// surface's quadrics after the sweeps (surface_restore.h).
   int restoredVertices = 0;
+  /// Algorithm::Filtered: the sweeps' deviation bound against the denoised
+  /// surface, relative to the diagonal (FilterStage::sweepBound).
+  double filteredSweepBoundRel = 0;
 };
 
 inline const char* toString(Guard g) {

@@ -121,6 +121,8 @@ struct FilterStage : Stage<MeshType> {
   void beforeClasses(RunState<MeshType>& r) override {
     r.stats.filter = denoiseFirst(r.w, r.given, resolveThreads(r.given.threads), r.cb, filtered_);
     r.p = sweepParams(r.given, r.stats.filter.kind);
+    r.p.maxDeviationRel = sweepBound(r.given.maxDeviationRel, r.stats.filter, r.m, r.w);
+    r.stats.filteredSweepBoundRel = r.p.maxDeviationRel;
   }
   void prepare(RunState<MeshType>& r) override {
     for (int i : r.active)
@@ -146,6 +148,19 @@ struct FilterStage : Stage<MeshType> {
     p.algorithm = Algorithm::Feature;
     p.maxFaceTurnDeg = filteredFaceTurnDeg(filter);
     return p;
+  }
+
+  /// The sweeps' deviation bound against the denoised surface, relative to
+  /// the diagonal: the given bound, and after a filter at least
+  /// kFilteredNoiseShare of the noise's standard deviation, since the
+  /// filter leaves the surface known no better than that and a tighter
+  /// bound holds the residual bumps' slivers in place (0: no bound).
+  static double sweepBound(double given, const FilterChoice& c, const MeshType& m, const WorkingMesh& w) {
+    if (!(given > 0) || c.kind == FilterKind::None || !(c.noiseEdges > 0) || !std::isfinite(c.noiseEdges))
+      return given;
+    const double diagonal = surfaceDiagonal(w.pos, w.topo);
+    if (!(diagonal > 0)) return given;
+    return std::max(given, kFilteredNoiseShare * c.noiseEdges * meanEdgeLength(m) / diagonal);
   }
 
  private:
