@@ -120,6 +120,19 @@ class InputGrid {
     return found && complete;
   }
 
+  /// Calls visit(k) for every input triangle k within r of q (its corners:
+  /// triangle(k)). False when the query gave up after opening maxNodes
+  /// nodes: the list is then incomplete.
+  template <class Visit>
+  bool forEachNear(const Vec3& q, double r, Visit&& visit, long maxNodes = kMaxNodes) const {
+    const double r2 = r * r;
+    return tree_.search(q, [r2] { return r2; }, [&](int t) {
+      if (pointTriangleDistance2(q, tri_[t][0], tri_[t][1], tri_[t][2]) <= r2) visit(t);
+      return false;
+    }, maxNodes);
+  }
+  const std::array<Vec3, 3>& triangle(int k) const { return tri_[k]; }
+
   /// The input face under a point: the one nearest it. Where several are
   /// nearest (up to rounding: the point lies over their common edge or
   /// corner), the one whose orientation is best aligned with the face

@@ -16,6 +16,7 @@
 #include "../maths/classify.h"
 #include "flips.h"
 #include "../maths/geometry.h"
+#include "../guards/cover.h"
 #include "../guards/guarded_move.h"
 #include "../guards/input_grid.h"
 #include "../maths/local_solve.h"
@@ -42,6 +43,16 @@ namespace sodt {
 /// would cost O(n) per round, and such a vertex is a fan's apex whose
 /// needles no local change can lift).
 constexpr std::size_t kRepairMaxStar = 64;
+
+/// The input triangles near a face the repair replaces are found in balls
+/// along it, each opening at most this many nodes of the input's tree
+/// (about four triangles each); beyond, the change is refused. A sliver's
+/// ball holds much of a small part: on a 788-vertex CAD part, with one
+/// ball per face, 256 nodes refused every change, 1024 none that 100000
+/// allowed.
+constexpr long kRepairInputNodes = 1024;
+/// ... in at most this many balls along the face's longest edge.
+constexpr double kRepairInputBalls = 16;
 
 /// What the repair may do.
 struct RepairSettings {
@@ -122,11 +133,18 @@ class LocalRepair {
     const auto& t = faces_.tri[f];
     return triangleMinAngle(pos_[t[0]], pos_[t[1]], pos_[t[2]]);
   }
-  /// The sample points of the triangles (centroids and edge midpoints) lie
-  /// within the bound of the input.
+  /// The sample points of the triangles (centroids, edge midpoints and the
+  /// points halfway from the centroid to each corner) lie within the bound
+  /// of the input.
   bool nearInput(const std::vector<std::array<Vec3, 3>>& tris) const;
   /// q lies within the bound of one of tris: the input point q is not cut off.
   bool covered(const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris) const;
+  /// Faces old becoming made keeps the input near them covered, as the
+  /// sweeps' cover does: every sample point of the input triangles near old
+  /// (corners, edge midpoints and quarter points, centroid) that lies
+  /// within kCoverLimitFactor bounds of old or of the faces around them
+  /// stays that near made or those faces.
+  bool keepsInputCovered(const std::vector<int>& old, const std::vector<std::array<Vec3, 3>>& made) const;
   /// Each of tris has area and keeps within the face-turn bound of the
   /// input face under its centroid (InputGrid::under).
   bool keepsTurn(const std::vector<std::array<Vec3, 3>>& tris) const;
@@ -293,8 +311,9 @@ inline void LocalRepair::setUp(const std::vector<char>& movable, const std::vect
 inline bool LocalRepair::nearInput(const std::vector<std::array<Vec3, 3>>& tris) const {
   if (!input_ || !(s_.bound > 0)) return true;
   for (const auto& t : tris) {
-    const Vec3 pts[4] = {(t[0] + t[1] + t[2]) / 3.0, (t[0] + t[1]) * 0.5, (t[1] + t[2]) * 0.5,
-                         (t[2] + t[0]) * 0.5};
+    const Vec3 pts[7] = {(t[0] + t[1] + t[2]) / 3.0,     (t[0] + t[1]) * 0.5,          (t[1] + t[2]) * 0.5,
+                         (t[2] + t[0]) * 0.5,           (t[0] * 4 + t[1] + t[2]) / 6, (t[0] + t[1] * 4 + t[2]) / 6,
+                         (t[0] + t[1] + t[2] * 4) / 6};
     for (const Vec3& q : pts)
       if (!input_->within(q, s_.bound)) return false;
   }
@@ -306,6 +325,104 @@ inline bool LocalRepair::covered(const Vec3& q, const std::vector<std::array<Vec
   for (const auto& t : tris)
     if (pointTriangleDistance2(q, t[0], t[1], t[2]) <= s_.bound * s_.bound) return true;
   return false;
+}
+
+inline bool LocalRepair::keepsInputCovered(const std::vector<int>& old,
+                                           const std::vector<std::array<Vec3, 3>>& made) const {
+  if (!input_ || !(s_.bound > 0)) return true;
+  const double reach = kCoverLimitFactor * s_.bound, reach2 = reach * reach;
+  std::vector<std::array<Vec3, 3>> before, around;
+  std::vector<int> aroundFaces;
+  for (int f : old) {
+    const auto& t = faces_.tri[f];
+    before.push_back({pos_[t[0]], pos_[t[1]], pos_[t[2]]});
+    for (int j = 0; j < 3; ++j) {
+      const int v = t[j];
+      if (vf_[v].size() <= kRepairMaxStar) {
+        aroundFaces.insert(aroundFaces.end(), vf_[v].begin(), vf_[v].end());
+        continue;
+      }
+      // A larger star (a fan's apex) is not gathered whole, which would
+      // cost O(n) per change: only the faces across the old face's two
+      // edges at v, found in the other end's star when that is small.
+      for (int k : {t[(j + 1) % 3], t[(j + 2) % 3]})
+        if (vf_[k].size() <= kRepairMaxStar)
+          for (int g : vf_[k])
+            for (int u : faces_.tri[g])
+              if (u == v) aroundFaces.push_back(g);
+    }
+  }
+  std::sort(aroundFaces.begin(), aroundFaces.end());
+  aroundFaces.erase(std::unique(aroundFaces.begin(), aroundFaces.end()), aroundFaces.end());
+  for (int g : aroundFaces)
+    if (std::find(old.begin(), old.end(), g) == old.end()) {
+      const auto& t = faces_.tri[g];
+      around.push_back({pos_[t[0]], pos_[t[1]], pos_[t[2]]});
+    }
+  // The input triangles within reach of each old face, found in balls
+  // along its longest edge: every point of the face lies within its
+  // height over that edge of it, so a sliver needs a row of small balls,
+  // not one as long as itself.
+  // The box of the old faces, grown by reach: no point outside it is
+  // within reach of them.
+  Vec3 lo = before[0][0], hi = before[0][0];
+  for (const auto& t : before)
+    for (const Vec3& x : t)
+      for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], x[i]), hi[i] = std::max(hi[i], x[i]);
+  for (int i = 0; i < 3; ++i) lo[i] -= reach, hi[i] += reach;
+  const auto inBox = [&lo, &hi](const Vec3& x) {
+    return x[0] >= lo[0] && x[0] <= hi[0] && x[1] >= lo[1] && x[1] <= hi[1] && x[2] >= lo[2] && x[2] <= hi[2];
+  };
+  const auto meetsBox = [&](int k) {
+    const auto& t = input_->triangle(k);
+    for (int i = 0; i < 3; ++i)
+      if (std::max({t[0][i], t[1][i], t[2][i]}) < lo[i] || std::min({t[0][i], t[1][i], t[2][i]}) > hi[i]) return false;
+    return true;
+  };
+  std::vector<int> near;
+  for (const auto& t : before) {
+    int e = 0;
+    for (int j = 1; j < 3; ++j)
+      if ((t[(j + 1) % 3] - t[j]).SquaredNorm() > (t[(e + 1) % 3] - t[e]).SquaredNorm()) e = j;
+    const Vec3 &a = t[e], &b = t[(e + 1) % 3], &c = t[(e + 2) % 3];
+    const double len = (b - a).Norm();
+    const double height = len > 0 ? ((b - a) ^ (c - a)).Norm() / len : (c - a).Norm();
+    const double spacing = std::max(height + reach, len / kRepairInputBalls);
+    const int balls = std::max(1, static_cast<int>(std::ceil(len / spacing)));
+    for (int i = 0; i < balls; ++i) {
+      const Vec3 q = a + (b - a) * ((i + 0.5) / balls);
+      if (!input_->forEachNear(q, len / (2.0 * balls) + height + reach, [&](int k) {
+                                 if (meetsBox(k)) near.push_back(k);
+                               },
+                               kRepairInputNodes))
+        return false;
+    }
+  }
+  std::sort(near.begin(), near.end());
+  near.erase(std::unique(near.begin(), near.end()), near.end());
+  const auto nearest2 = [](const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris, double stop2) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& t : tris) {
+      best = std::min(best, pointTriangleDistance2(q, t[0], t[1], t[2]));
+      if (best <= stop2) break;
+    }
+    return best;
+  };
+  for (int k : near) {
+    const auto& t = input_->triangle(k);
+    const Vec3 pts[13] = {t[0], t[1], t[2], (t[0] + t[1]) * 0.5, (t[1] + t[2]) * 0.5, (t[2] + t[0]) * 0.5,
+                          (t[0] * 3 + t[1]) * 0.25, (t[0] + t[1] * 3) * 0.25, (t[1] * 3 + t[2]) * 0.25,
+                          (t[1] + t[2] * 3) * 0.25, (t[2] * 3 + t[0]) * 0.25, (t[2] + t[0] * 3) * 0.25,
+                          (t[0] + t[1] + t[2]) / 3.0};
+    // Only a point the old faces held within reach can be uncovered (one
+    // the faces around held stays held): it must stay within reach of
+    // made or of those faces.
+    for (const Vec3& q : pts)
+      if (inBox(q) && nearest2(q, before, reach2) <= reach2 && nearest2(q, made, reach2) > reach2 &&
+          nearest2(q, around, reach2) > reach2)
+        return false;
+  }
+  return true;
 }
 
 inline bool LocalRepair::keepsTurn(const std::vector<std::array<Vec3, 3>>& tris) const {
@@ -342,7 +459,9 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   const double after = std::min(triangleMinAngle(pa, pd, pc), triangleMinAngle(pd, pb, pc));
   if (!(after > before + 1e-9)) return NoGain;
   const std::vector<std::array<Vec3, 3>> made = {{pa, pd, pc}, {pd, pb, pc}};
-  if (!nearInput(made) || !covered((pa + pb) * 0.5, made) || !keepsTurn(made)) return OverBound;
+  if (!nearInput(made) || !covered((pa + pb) * 0.5, made) || !keepsTurn(made) ||
+      !keepsInputCovered({f1, f2}, made))
+    return OverBound;
   faces_.tri[f1] = {a, d, c};
   faces_.tri[f2] = {d, b, c};
   removeFromVf(a, f2);
@@ -392,7 +511,8 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
     made.push_back(u);
   }
   if (!(after > before)) return NoGain;
-  if (!nearInput(made) || !covered(pos_[a], made) || !keepsTurn(made)) return OverBound;
+  if (!nearInput(made) || !covered(pos_[a], made) || !keepsTurn(made) || !keepsInputCovered(vf_[a], made))
+    return OverBound;
   for (int f : vf_[a]) {
     if (f == f1 || f == f2) continue;
     for (int& v : faces_.tri[f])
@@ -435,7 +555,7 @@ inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
         std::max({(t[1] - t[0]).SquaredNorm(), (t[2] - t[1]).SquaredNorm(), (t[0] - t[2]).SquaredNorm()});
     if (!(n.Norm() > kCollapse * longest) || !(n * (k < 2 ? o1 : o2) > 0)) return NoGain;
   }
-  if (!nearInput(made) || !keepsTurn(made)) return OverBound;
+  if (!nearInput(made) || !keepsTurn(made) || !keepsInputCovered({f1, f2}, made)) return OverBound;
   const int m = static_cast<int>(pos_.size());
   pos_.push_back(p);
   deleted_.push_back(0);
@@ -616,7 +736,8 @@ inline bool LocalRepair::relax(int v) {
     std::vector<std::array<Vec3, 3>> made;
     for (std::size_t k = 0; k < st.size(); ++k) made.push_back({y, st.at(k), st.at(k + 1)});
     if (input_ && s_.bound > 0 && !input_->within(y, s_.bound)) continue;
-    if (!nearInput(made) || !covered(st.center, made) || !keepsTurn(made)) continue;
+    if (!nearInput(made) || !covered(st.center, made) || !keepsTurn(made) || !keepsInputCovered(vf_[v], made))
+      continue;
     pos_[v] = y;
     ++r_.relaxMoves;
     return true;
