@@ -173,7 +173,18 @@ InputGeometry keepInput(const MeshD& m, bool facesMayChange) {
   return g;
 }
 
-void rebuildInput(InputGeometry& input, const MeshD& m, sodt::SampleMesh& ref) {
+void rebuildInput(InputGeometry& input, const MeshD& m, sodt::SampleMesh& ref, bool reoriented) {
+  if (input.facesKept && reoriented) {
+    sodt::FaceList faces;
+    faces.tri.swap(input.faces);
+    faces.live.assign(faces.tri.size(), 1);
+    faces.flippable.assign(faces.tri.size(), 1);
+    std::vector<sodt::Vec3> pos;
+    pos.reserve(input.positions.size());
+    for (const auto& p : input.positions) pos.push_back(sodt::Vec3::Construct(p));
+    sodt::orientCoherently(faces, pos);
+    faces.tri.swap(input.faces);
+  }
   ref.Clear();
   vcg::tri::Allocator<sodt::SampleMesh>::AddVertices(ref, input.positions.size());
   for (std::size_t i = 0; i < input.positions.size(); ++i) ref.vert[i].P() = input.positions[i];

@@ -70,8 +70,11 @@ InputGeometry keepInput(const MeshD& m, bool facesMayChange);
 
 /// The input mesh for the measures, as its copy would be: its vertices in
 /// order, with the faces of `input` or else those of m (which the smoother
-/// left unchanged). Frees input's arrays as it goes.
-void rebuildInput(InputGeometry& input, const MeshD& m, sodt::SampleMesh& ref);
+/// left unchanged but for their orientation). With `reoriented` (the
+/// smoother oriented the faces coherently) the faces of `input` are
+/// oriented the same way, so that a face it turned on purpose does not
+/// count as turned over. Frees input's arrays as it goes.
+void rebuildInput(InputGeometry& input, const MeshD& m, sodt::SampleMesh& ref, bool reoriented = false);
 
 /// Writes m with the classes as per-vertex quality and colour (output.h).
 /// Overwrites m's quality and colour.

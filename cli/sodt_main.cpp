@@ -196,7 +196,7 @@ int runSmooth(const SmoothOptions& o) {
   r.after = measure(m, st.threads);
   {
     sodt::SampleMesh ref;  // freed before the save, which reads OUT back
-    rebuildInput(input, m, ref);
+    rebuildInput(input, m, ref, st.reorientedFaces > 0);
     if (o.distance)
       r.distance = distanceTo(m, ref, st.threads);
     else

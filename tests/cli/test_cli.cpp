@@ -1866,6 +1866,23 @@ TEST(CliWinding, ClosedMeshWithMostFacesTurnedComesOutOutward) {
   EXPECT_NE(r.out.find("outward on closed parts"), std::string::npos) << r.out;
   const RunResult st = runSodt({"stats", dir / "out.off"}, dir);
   EXPECT_GT(jsonNumber(st.out, "volume"), 4.0) << st.out;  // the unit sphere's 4.19
+  // The faces turned on purpose are not counted as turned over, also when
+  // flips or a repair change the faces (measured against the input oriented
+  // the same way): the count is the one of the sphere as it was made.
+  writeFile(dir / "clean.off", toOff(jitteredSphere(3, 0.4, 5)));
+  for (const char* option : {"--flips", "--repair"}) {
+    double inverted[2];
+    for (int mixed = 0; mixed < 2; ++mixed) {
+      const RunResult f = runSodt({"smooth", dir / (mixed ? "mixed.off" : "clean.off"), dir / "out2.off", option,
+                                   "--report", dir / "r2.json"}, dir);
+      ASSERT_EQ(f.exitCode, 0) << f.err;
+      const std::string json = readFile(dir / "r2.json");
+      EXPECT_EQ(jsonNumber(json, "reoriented_faces"), mixed ? turned : 0) << option;
+      inverted[mixed] = jsonNumber(json, "inverted_faces");
+    }
+    EXPECT_EQ(inverted[1], inverted[0]) << option;
+    EXPECT_LT(inverted[1], 0.01 * turned) << option;  // against the input's own winding: most of turned
+  }
 }
 
 TEST(CliWinding, DuplicatedFacesAreNotTurnedOver) {
