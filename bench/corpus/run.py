@@ -104,6 +104,7 @@ def run_one(sodt, mesh, out, report, args):
         "frac_below_30": rep["after"]["frac_below_30"],
         "fixed_nonmanifold": rep.get("fixed_nonmanifold", 0),
         "reoriented_faces": rep.get("reoriented_faces", 0),
+        "inverted_faces": rep.get("inverted_faces"),
     })
     if "protected_angles" in rep:
         res["protected_angles"] = rep["protected_angles"]
@@ -140,6 +141,9 @@ def summarize(results, cfg, kinds=None):
     s["clean"] = sum(r["runs"][cfg]["needles"] == 0 and r["runs"][cfg]["caps"] == 0 for r in ok)
     s["needles"] = sum(r["runs"][cfg]["needles"] for r in ok)
     s["caps"] = sum(r["runs"][cfg]["caps"] for r in ok)
+    inv = [r["runs"][cfg].get("inverted_faces") or 0 for r in ok]
+    s["inverted_meshes"] = sum(i > 0 for i in inv)
+    s["inverted_faces"] = sum(inv)
     s["seconds"] = sum(r["runs"][cfg]["seconds"] for r in ok)
     ratio = [r["runs"][cfg]["seconds"] / r["runs"]["flips"]["seconds"] for r in ok
              if r["runs"].get("flips", {}).get("exit") == 0 and r["runs"]["flips"]["seconds"] > 0]
@@ -227,6 +231,8 @@ def markdown(results, configs, meta, main="repair"):
         line("needles / caps in all", lambda x, i: "%d / %d" % (x["needles"], x["caps"]))
         line("Hausdorff median / max (%)", lambda x, i: "—" if i == 0 else "%s / %s" % (fmt(x["hd_median"], 3), fmt(x["hd_max"], 3)))
         line("Hausdorff > %.2f%%" % HAUSDORFF_LIMIT, lambda x, i: "—" if i == 0 else "%d" % x["hd_over"])
+        line("faces facing away from the input: meshes / faces",
+             lambda x, i: "—" if i == 0 else "%d / %d" % (x["inverted_meshes"], x["inverted_faces"]))
         line("vertex growth median / max (%)", lambda x, i: "—" if i == 0 else "%s / %s" % (fmt(x["growth_median"]), fmt(x["growth_max"])))
         line("time (s)", lambda x, i: "—" if i == 0 else fmt(x["seconds"], 1))
         line("time / flips: median, max", lambda x, i: "—" if i == 0 or cols[i][1] == "flips" else "%s, %s" % (fmt(x["ratio_median"], 2), fmt(x["ratio_max"], 2)))
