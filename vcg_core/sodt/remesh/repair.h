@@ -51,6 +51,12 @@ constexpr std::size_t kRepairMaxStar = 64;
 /// ball per face, 256 nodes refused every change, 1024 none that 100000
 /// allowed.
 constexpr long kRepairInputNodes = 1024;
+/// A change at a vertex with more faces than this is refused before the
+/// input is looked up: near such an apex every ball holds all its needles,
+/// so each refusal would open kRepairInputNodes nodes (a double fan of
+/// 20000 needles took 6 s with --flips --repair before the input cover,
+/// over 60 s with it and no such limit).
+constexpr std::size_t kRepairMaxCoverStar = 256;
 /// ... in at most this many balls along the face's longest edge.
 constexpr double kRepairInputBalls = 16;
 
@@ -145,6 +151,14 @@ class LocalRepair {
   /// within kCoverLimitFactor bounds of old or of the faces around them
   /// stays that near made or those faces.
   bool keepsInputCovered(const std::vector<int>& old, const std::vector<std::array<Vec3, 3>>& made) const;
+  /// A corner of the faces has more than kRepairMaxCoverStar faces: a
+  /// change of them is refused before anything is measured.
+  bool atHugeStar(const std::vector<int>& faces) const {
+    for (int f : faces)
+      for (int v : faces_.tri[f])
+        if (vf_[v].size() > kRepairMaxCoverStar) return true;
+    return false;
+  }
   /// Each of tris has area and keeps within the face-turn bound of the
   /// input face under its centroid (InputGrid::under).
   bool keepsTurn(const std::vector<std::array<Vec3, 3>>& tris) const;
@@ -459,7 +473,7 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   const double after = std::min(triangleMinAngle(pa, pd, pc), triangleMinAngle(pd, pb, pc));
   if (!(after > before + 1e-9)) return NoGain;
   const std::vector<std::array<Vec3, 3>> made = {{pa, pd, pc}, {pd, pb, pc}};
-  if (!nearInput(made) || !covered((pa + pb) * 0.5, made) || !keepsTurn(made) ||
+  if (atHugeStar({f1, f2}) || !nearInput(made) || !covered((pa + pb) * 0.5, made) || !keepsTurn(made) ||
       !keepsInputCovered({f1, f2}, made))
     return OverBound;
   faces_.tri[f1] = {a, d, c};
@@ -511,7 +525,8 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
     made.push_back(u);
   }
   if (!(after > before)) return NoGain;
-  if (!nearInput(made) || !covered(pos_[a], made) || !keepsTurn(made) || !keepsInputCovered(vf_[a], made))
+  if (atHugeStar(vf_[a]) || !nearInput(made) || !covered(pos_[a], made) || !keepsTurn(made) ||
+      !keepsInputCovered(vf_[a], made))
     return OverBound;
   for (int f : vf_[a]) {
     if (f == f1 || f == f2) continue;
@@ -555,7 +570,8 @@ inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
         std::max({(t[1] - t[0]).SquaredNorm(), (t[2] - t[1]).SquaredNorm(), (t[0] - t[2]).SquaredNorm()});
     if (!(n.Norm() > kCollapse * longest) || !(n * (k < 2 ? o1 : o2) > 0)) return NoGain;
   }
-  if (!nearInput(made) || !keepsTurn(made) || !keepsInputCovered({f1, f2}, made)) return OverBound;
+  if (atHugeStar({f1, f2}) || !nearInput(made) || !keepsTurn(made) || !keepsInputCovered({f1, f2}, made))
+    return OverBound;
   const int m = static_cast<int>(pos_.size());
   pos_.push_back(p);
   deleted_.push_back(0);
@@ -736,7 +752,8 @@ inline bool LocalRepair::relax(int v) {
     std::vector<std::array<Vec3, 3>> made;
     for (std::size_t k = 0; k < st.size(); ++k) made.push_back({y, st.at(k), st.at(k + 1)});
     if (input_ && s_.bound > 0 && !input_->within(y, s_.bound)) continue;
-    if (!nearInput(made) || !covered(st.center, made) || !keepsTurn(made) || !keepsInputCovered(vf_[v], made))
+    if (atHugeStar(vf_[v]) || !nearInput(made) || !covered(st.center, made) || !keepsTurn(made) ||
+        !keepsInputCovered(vf_[v], made))
       continue;
     pos_[v] = y;
     ++r_.relaxMoves;
