@@ -187,6 +187,58 @@ TEST(Metrics, InvertedFacesAgainstReference) {
 
 namespace {
 
+/// A flat patch (z = 0, facing +z) with a sliver along the edge A-B
+/// (smallest angle 0.57 degrees) folded against it: the sliver A, E, B
+/// faces -z while every face around faces +z. Vertices A, B, C, D, E.
+void makeFoldedSliverPatch(Mesh& m) {
+  const double p[5][2] = {{0, 0}, {2, 0}, {1, 1}, {1, -1}, {1, 0.01}};
+  auto vi = vcg::tri::Allocator<Mesh>::AddVertices(m, 5);
+  for (int i = 0; i < 5; ++i, ++vi) vi->P() = vcg::Point3d(p[i][0], p[i][1], 0);
+  sodt_test::addFace(m, 0, 4, 2);  // above the sliver
+  sodt_test::addFace(m, 4, 1, 2);
+  sodt_test::addFace(m, 0, 3, 1);  // below A-B
+  sodt_test::addFace(m, 0, 4, 1);  // the sliver, folded
+}
+
+}  // namespace
+
+TEST(Metrics, AFoldedSliverMayUnfoldIntoTheSurface) {
+  // A sliver of the input folded against the surface at its corners has no
+  // side of its own: a face over it counts as turned over only when it
+  // faces away from that surface too.
+  Mesh ref;
+  makeFoldedSliverPatch(ref);
+  bool faceByFace = false;
+  Mesh unfolded;  // E moved below A-B: the sliver faces +z like its neighbours
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(unfolded, ref);
+  unfolded.vert[4].P() = vcg::Point3d(1, -0.3, 0);
+  EXPECT_EQ(sodt::countInvertedFaces(unfolded, ref, 1, &faceByFace), 0);
+  EXPECT_TRUE(faceByFace);
+  Mesh kept;  // the input as it is: the fold was there, nothing turned
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(kept, ref);
+  EXPECT_EQ(sodt::countInvertedFaces(kept, ref), 0);
+  // Faces that do not correspond: the sliver turned to +z by its winding
+  // is not counted, a face beside it turned to -z is.
+  Mesh rewound;
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(rewound, ref);
+  std::swap(rewound.face[3].V(1), rewound.face[3].V(2));
+  double turn = -1;
+  EXPECT_EQ(sodt::countInvertedFaces(rewound, ref, 1, &faceByFace), 0);
+  EXPECT_FALSE(faceByFace);
+  EXPECT_EQ(sodt::countFacesFacingAway(rewound, ref, 1, &turn), 0);
+  EXPECT_NEAR(turn, 0.0, 1e-9);
+  std::swap(rewound.face[0].V(1), rewound.face[0].V(2));
+  EXPECT_EQ(sodt::countInvertedFaces(rewound, ref), 1);
+  // Face by face, a face over a good input face turned to -z counts.
+  Mesh turned;
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(turned, ref);
+  turned.vert[2].P() = vcg::Point3d(1, -2, 0);  // C below A-B: its two faces turn over
+  EXPECT_EQ(sodt::countInvertedFaces(turned, ref, 1, &faceByFace), 2);
+  EXPECT_TRUE(faceByFace);
+}
+
+namespace {
+
 /// One direction of the distance as surfaceDistance measured it before it
 /// had its own sampler: vcglib's HausdorffSampler on MeshD copies.
 std::pair<double, double> vcgOneSided(Mesh& from, Mesh& to, double bound) {

@@ -1029,21 +1029,49 @@ double hausdorffRel(const MeshA& a, const MeshB& b) {
   return surfaceDistance(a, b).maxRel;
 }
 
+namespace detail {
+
+/// For each live face of ref, in order, the second orientation a face over
+/// it may take (foldedSliverSurfaceNormals): for a sliver folded against
+/// the surface at its corners, that surface's normal; else zero.
+inline std::vector<Vec3> liveFoldedSliverNormals(const std::vector<Vec3>& pos, const FaceList& faces) {
+  const std::vector<Vec3> all = foldedSliverSurfaceNormals(faces, pos);
+  std::vector<Vec3> live;
+  for (std::size_t f = 0; f < faces.tri.size(); ++f)
+    if (faces.live[f]) live.push_back(all[f]);
+  return live;
+}
+
+template <class MeshType>
+std::vector<Vec3> positions(const MeshType& m) {
+  std::vector<Vec3> pos(m.vert.size());
+  for (std::size_t i = 0; i < m.vert.size(); ++i) pos[i] = toVec3<MeshType>(m.vert[i].cP());
+  return pos;
+}
+
+}  // namespace detail
+
 /// Number of live faces of m that face away from the surface of ref under
 /// them: each against the face of ref nearest its centroid (of those
 /// equally near, up to rounding, the best aligned; InputGrid::under), for
 /// meshes whose faces do not correspond to ref's (after edge flips or a
 /// repair that added or removed vertices). A face counts when its normal
-/// and that face's are more than 90 degrees apart; faces without area face
-/// nowhere and are left out (the input's degenerate faces among them, which
-/// crease moves may shift along their line). maxTurnDeg, when not null,
-/// receives the largest angle between a face and its face of ref (0 when
-/// none). Counts on threads threads, with the same result for any number.
+/// and that face's are more than 90 degrees apart; when that face is a
+/// sliver of ref folded against the surface at its corners
+/// (foldedSliverSurfaceNormals), only when it also faces away from that
+/// surface: either side is a valid orientation there, and the sweeps may
+/// unfold such a sliver. Faces without area face nowhere and are left out
+/// (the input's degenerate faces among them, which crease moves may shift
+/// along their line). maxTurnDeg, when not null, receives the largest angle
+/// between a face and its face of ref (the nearer of a folded sliver's two
+/// orientations; 0 when none). Counts on threads threads, with the same
+/// result for any number.
 template <class MeshType, class RefType>
 long long countFacesFacingAway(const MeshType& m, const RefType& ref, int threads = 1, double* maxTurnDeg = nullptr) {
-  std::vector<Vec3> pos(ref.vert.size());
-  for (std::size_t i = 0; i < ref.vert.size(); ++i) pos[i] = detail::toVec3<RefType>(ref.vert[i].cP());
-  const InputGrid under(pos, makeFaceList(ref));
+  std::vector<Vec3> pos = detail::positions(ref);
+  const FaceList refFaces = makeFaceList(ref);
+  const InputGrid under(pos, refFaces);
+  const std::vector<Vec3> folded = detail::liveFoldedSliverNormals(pos, refFaces);
   std::vector<Vec3>().swap(pos);
   long long n = 0;
   double worst = 0;
@@ -1061,8 +1089,15 @@ long long countFacesFacingAway(const MeshType& m, const RefType& ref, int thread
     const InputGrid::Under u = under.under((p[0] + p[1] + p[2]) / 3.0, area, std::numeric_limits<double>::infinity(),
                                            std::numeric_limits<long>::max());
     if (!u.found) continue;
-    n += area * u.normal < 0;
-    worst = std::max(worst, angleBetween(area, u.normal));
+    double turn = angleBetween(area, u.normal);
+    bool away = area * u.normal < 0;
+    const Vec3& other = folded[static_cast<std::size_t>(u.face)];
+    if (other.SquaredNorm() > 0) {
+      turn = std::min(turn, angleBetween(area, other));
+      away = away && area * other < 0;
+    }
+    n += away;
+    worst = std::max(worst, turn);
   }
   if (maxTurnDeg) *maxTurnDeg = worst * kRadToDeg;
   return n;
@@ -1072,8 +1107,10 @@ long long countFacesFacingAway(const MeshType& m, const RefType& ref, int thread
 /// face while the face lists correspond (the same sizes and vertex
 /// indices), a face counting also when it collapsed to zero area while the
 /// face of ref had area; else each face against the face of ref under it
-/// (countFacesFacingAway). faceByFace, when not null, receives which of
-/// the two it measured. Counts on threads threads.
+/// (countFacesFacingAway). Face by face too, a face over a sliver of ref
+/// folded against the surface at its corners counts only when it also
+/// faces away from that surface. faceByFace, when not null, receives which
+/// of the two it measured. Counts on threads threads.
 template <class MeshType, class RefType>
 long long countInvertedFaces(const MeshType& m, const RefType& ref, int threads = 1, bool* faceByFace = nullptr) {
   if (faceByFace) *faceByFace = false;
@@ -1083,6 +1120,7 @@ long long countInvertedFaces(const MeshType& m, const RefType& ref, int threads 
   bool differ = false;
   const long long nf = static_cast<long long>(m.face.size());
   threads = std::max(1, std::min(threads, 1024));
+  const std::vector<Vec3> folded = foldedSliverSurfaceNormals(makeFaceList(ref), detail::positions(ref));
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : n) reduction(|| : differ) \
     if (threads > 1 && nf >= 8192)
   for (long long i = 0; i < nf; ++i) {
@@ -1099,8 +1137,12 @@ long long countInvertedFaces(const MeshType& m, const RefType& ref, int threads 
                                       detail::toVec3<MeshType>(f.cP(2)));
     const Vec3 ng3 = doubleAreaVector(detail::toVec3<RefType>(g.cP(0)), detail::toVec3<RefType>(g.cP(1)),
                                       detail::toVec3<RefType>(g.cP(2)));
-    const double dot = nf3 * ng3;
-    if (dot < 0 || (nf3.SquaredNorm() == 0 && ng3.SquaredNorm() > 0)) ++n;
+    if (nf3.SquaredNorm() == 0) {
+      n += ng3.SquaredNorm() > 0;
+      continue;
+    }
+    const Vec3& other = folded[static_cast<std::size_t>(i)];
+    n += nf3 * ng3 < 0 && !(other.SquaredNorm() > 0 && !(nf3 * other < 0));
   }
   if (differ) return countFacesFacingAway(m, ref, threads);
   if (faceByFace) *faceByFace = true;

@@ -180,14 +180,7 @@ class RiskProbe {
 
 /// Area-weighted vertex normals of pos (zero where they vanish).
 inline std::vector<Vec3> vertexNormals(const FaceList& faces, const std::vector<Vec3>& pos) {
-  std::vector<Vec3> n(pos.size(), Vec3(0, 0, 0));
-  for (std::size_t f = 0; f < faces.tri.size(); ++f) {
-    if (!faces.live[f]) continue;
-    const std::array<int, 3>& t = faces.tri[f];
-    const Vec3 a = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
-    if (!isFinite(a)) continue;
-    for (int v : t) n[v] += a;
-  }
+  std::vector<Vec3> n = vertexAreaSums(faces, pos);
   for (Vec3& v : n) {
     const double len = v.Norm();
     v = len > 0 && std::isfinite(len) ? v / len : Vec3(0, 0, 0);

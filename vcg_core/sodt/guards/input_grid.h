@@ -140,6 +140,7 @@ class InputGrid {
   struct Under {
     bool found = false;  ///< false: no face with an orientation within reach (or the query gave up)
     Vec3 normal;         ///< its orientation (unit)
+    int face = -1;       ///< its position among the live faces the grid was made from
   };
 
   /// The input face under q (see Under) among those within reach of q
@@ -170,6 +171,7 @@ class InputGrid {
       if (c.first <= window(best) && normal_[c.second] * dir > aligned) {
         aligned = normal_[c.second] * dir;
         u.normal = normal_[c.second];
+        u.face = c.second;
       }
     u.found = true;
     return u;

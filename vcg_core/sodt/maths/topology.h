@@ -93,6 +93,50 @@ FaceList makeFaceList(const MeshType& m, bool selectedOnly = false) {
   return fl;
 }
 
+/// Faces whose smallest angle is below this have a normal that says
+/// little about the surface: moving a vertex by a hundredth of an edge
+/// length turns a 3-degree sliver by about 10 degrees.
+constexpr double kSliverNormalDeg = 3.0;
+
+/// Per vertex, the sum of the area vectors of the live faces around it
+/// (faces with a non-finite area left out): the surface's orientation at
+/// the vertex, in which slivers weigh little.
+inline std::vector<Vec3> vertexAreaSums(const FaceList& faces, const std::vector<Vec3>& pos) {
+  std::vector<Vec3> around(pos.size(), Vec3(0, 0, 0));
+  for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+    if (!faces.live[f]) continue;
+    const std::array<int, 3>& t = faces.tri[f];
+    const Vec3 a = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
+    if (isFinite(a))
+      for (int v : t) around[v] += a;
+  }
+  return around;
+}
+
+/// For each live face that is a sliver (smallest angle below
+/// kSliverNormalDeg) folded against the surface at its corners (its normal
+/// more than 90 degrees from the sum of vertexAreaSums at its three
+/// vertices): the unit normal of that surface; zero for every other face.
+/// Such a sliver's own orientation is no reference for which side its face
+/// should face: moves may unfold it into the surface.
+inline std::vector<Vec3> foldedSliverSurfaceNormals(const FaceList& faces, const std::vector<Vec3>& pos) {
+  std::vector<Vec3> normal(faces.tri.size(), Vec3(0, 0, 0));
+  std::vector<Vec3> around;  // filled at the first sliver
+  const double sliverRad = kSliverNormalDeg * kPi / 180.0;
+  for (std::size_t f = 0; f < faces.tri.size(); ++f) {
+    if (!faces.live[f]) continue;
+    const std::array<int, 3>& t = faces.tri[f];
+    const Vec3 a = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
+    if (!(a.SquaredNorm() > 0) || !isFinite(a) || !(triangleMinAngle(pos[t[0]], pos[t[1]], pos[t[2]]) < sliverRad))
+      continue;
+    if (around.empty()) around = vertexAreaSums(faces, pos);
+    const Vec3 mean = around[t[0]] + around[t[1]] + around[t[2]];
+    const double len = mean.Norm();
+    if (len > 0 && std::isfinite(len) && mean * a < 0) normal[f] = mean / len;
+  }
+  return normal;
+}
+
 namespace detail {
 
 /// Edge a -> b opposite a vertex in one of its faces.

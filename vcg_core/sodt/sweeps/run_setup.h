@@ -75,11 +75,6 @@ inline std::vector<int> activeVertices(const SodtParams& p, const RingTopology& 
   return active;
 }
 
-/// Input faces whose smallest angle is below this have a normal that says
-/// little about the surface: moving a vertex by a hundredth of an edge
-/// length turns a 3-degree sliver by about 10 degrees.
-constexpr double kSliverNormalDeg = 3.0;
-
 namespace detail {
 
 /// The unit vector at most maxRad from the unit vector from, towards the
@@ -114,7 +109,7 @@ inline Vec3 turnTowards(const Vec3& from, const Vec3& to, double maxRad) {
 /// most of their smallest angle with the slivers' references replaced.
 inline std::vector<Vec3> faceNormals(const FaceList& faces, const std::vector<Vec3>& pos, double maxTurnDeg = 90) {
   std::vector<Vec3> normal(faces.tri.size(), Vec3(0, 0, 0));
-  std::vector<Vec3> around;  // per vertex, the sum of its faces' area vectors (when a sliver needs it)
+  std::vector<Vec3> around;  // vertexAreaSums, when a sliver needs it
   const double sliverRad = kSliverNormalDeg * kPi / 180.0;
   const double turnRad = std::min(maxTurnDeg, 90.0) * kPi / 180.0;
   for (std::size_t f = 0; f < faces.tri.size(); ++f) {
@@ -127,16 +122,7 @@ inline std::vector<Vec3> faceNormals(const FaceList& faces, const std::vector<Ve
       normal[f] = a / len;
       continue;
     }
-    if (around.empty()) {
-      around.assign(pos.size(), Vec3(0, 0, 0));
-      for (std::size_t g = 0; g < faces.tri.size(); ++g) {
-        if (!faces.live[g]) continue;
-        const std::array<int, 3>& u = faces.tri[g];
-        const Vec3 b = doubleAreaVector(pos[u[0]], pos[u[1]], pos[u[2]]);
-        if (isFinite(b))
-          for (int v : u) around[v] += b;
-      }
-    }
+    if (around.empty()) around = vertexAreaSums(faces, pos);
     const Vec3 mean = around[t[0]] + around[t[1]] + around[t[2]];
     const double m = mean.Norm();
     if (!(maxTurnDeg < 90) || !(m > 0 && std::isfinite(m)))
