@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # One-shot set-up and demo on Debian 12, the first result first:
-#   1. installs the dependencies (scripts/install-deps.sh, with sudo when not root);
+#   1. installs what the `sodt` command needs (scripts/install-deps.sh --core,
+#      with sudo when not root);
 #   2. builds the `sodt` command alone, smooths the bundled meshes/blobs_mc.ply
-#      with it and prints its summary (a few minutes from a fresh clone);
-#   3. builds the plugin for MeshLab 2020.09, installs it and `sodt` (as root)
+#      with it and prints its summary (steps 1 and 2: a few minutes from a
+#      fresh clone on a fresh machine);
+#   3. installs the other dependencies (MeshLab 2020.09, Qt, the test tools),
+#      builds the plugin for MeshLab 2020.09, installs it and `sodt` (as root)
 #      and smooths the same mesh in Debian's meshlabserver 2020.09;
 #   4. builds MeshLab 2025.07 and PyMeshLab 2025.7 once per machine
 #      (scripts/build-meshlab-2025.sh; the longest step, cached outside the checkout);
@@ -42,13 +45,14 @@ step() {
   printf '\n== %d. %s ==\n' "$STEP" "$*"
 }
 
-step "installing the dependencies from Debian's archive (scripts/install-deps.sh; a few minutes the first time, seconds after)"
-"${SUDO[@]}" "$ROOT/scripts/install-deps.sh"
+step "installing what the sodt command needs from Debian's archive (scripts/install-deps.sh --core; 1-2 min the first time, seconds after)"
+"${SUDO[@]}" "$ROOT/scripts/install-deps.sh" --core
 
 step "building the sodt command (about 3 min on 2 cores from a fresh clone), then smoothing meshes/blobs_mc.ply"
-# The tests, the benchmarks and the developer tools are left out here;
-# scripts/run-tests.sh switches them on again.
-cmake -S "$ROOT" -B "$BUILD" --log-level=WARNING -DCMAKE_BUILD_TYPE=Release \
+# The plugin (Qt is not installed yet), the tests, the benchmarks and the
+# developer tools are left out here; step 3 switches the plugin on,
+# scripts/run-tests.sh the rest.
+cmake -S "$ROOT" -B "$BUILD" --log-level=WARNING -DCMAKE_BUILD_TYPE=Release -DSODT_BUILD_PLUGIN=OFF \
   -DSODT_BUILD_TESTS=OFF -DSODT_BUILD_BENCH=OFF -DSODT_BUILD_TOOLS=OFF
 cmake --build "$BUILD" -j"$JOBS" --target sodt
 mkdir -p "$OUT"
@@ -57,7 +61,9 @@ echo "-- sodt smooth meshes/blobs_mc.ply (20 sweeps, guard quality) --"
 "$SODT" smooth "$MESH" "$OUT/blobs_mc_sodt.ply" --report "$OUT/blobs_mc_report.json"
 echo "output: $OUT/blobs_mc_sodt.ply, report: $OUT/blobs_mc_report.json"
 
-step "building the plugin for MeshLab 2020.09 (about 1-2 min), installing it and sodt (as root), smoothing the mesh in meshlabserver 2020.09"
+step "installing the other dependencies (scripts/install-deps.sh: MeshLab 2020.09, Qt, the test tools; several minutes the first time), building the plugin for MeshLab 2020.09 (about 1-2 min), installing it and sodt (as root), smoothing the mesh in meshlabserver 2020.09"
+"${SUDO[@]}" "$ROOT/scripts/install-deps.sh"
+cmake -S "$ROOT" -B "$BUILD" --log-level=WARNING -DSODT_BUILD_PLUGIN=ON
 cmake --build "$BUILD" -j"$JOBS" --target filter_sodt
 "${SUDO[@]}" cmake --install "$BUILD"
 echo

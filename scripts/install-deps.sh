@@ -5,19 +5,35 @@
 # `meshlab` source package into .deps/ (git-ignored). Safe to run repeatedly.
 # MeshLab 2025.07 and PyMeshLab 2025.7 are built from these packages by
 # scripts/build-meshlab-2025.sh, as the user who runs the tests (not as root).
+#   --core  only what the `sodt` command needs (a compiler, CMake, Eigen, CLI11,
+#           nlohmann-json) and the SDK, whose vcglib the core is built on: the
+#           demo's first step, a few minutes on a fresh machine; run again
+#           without it for the plugin, the tests and the benchmarks.
 set -euo pipefail
+
+CORE_ONLY=0
+case "${1:-}" in
+  --core) CORE_ONLY=1 ;;
+  "") ;;
+  *) echo "usage: install-deps.sh [--core]" >&2; exit 2 ;;
+esac
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 DEPS_DIR="${SODT_DEPS_DIR:-$ROOT/.deps}"
 SDK_LINK="$DEPS_DIR/meshlab-src"
 
-PACKAGES=(
-  meshlab xvfb xauth
-  cmake make g++ pkg-config
-  qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
-  # the command line of `sodt` (header-only CLI11) and its JSON reports
+# The `sodt` command: the core (Eigen, and vcglib from the SDK, which
+# `apt-get source` unpacks with dpkg-dev), its command line (header-only
+# CLI11) and its JSON reports.
+CORE_PACKAGES=(
+  cmake make g++ pkg-config libeigen3-dev dpkg-dev xz-utils
   libcli11-dev nlohmann-json3-dev
-  libgtest-dev libbenchmark-dev dpkg-dev
+)
+PACKAGES=(
+  "${CORE_PACKAGES[@]}"
+  meshlab xvfb xauth
+  qtbase5-dev libqt5opengl5-dev libglew-dev
+  libgtest-dev libbenchmark-dev
   # the function-length check of the core (tests/scripts/function_length_test.sh)
   universal-ctags
   # fuzzing and sanitizer builds (clang's libFuzzer runtime)
@@ -127,6 +143,7 @@ if ! has_deb_src; then
 fi
 [ "${SODT_APT_SOURCES_ONLY:-0}" = 1 ] && exit 0
 
+[ "$CORE_ONLY" = 1 ] && PACKAGES=("${CORE_PACKAGES[@]}")
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

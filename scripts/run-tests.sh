@@ -18,7 +18,7 @@ echo "== MeshLab 2025.07 and PyMeshLab 2025.7 (built once per machine) =="
 ML2025="$("$ROOT/scripts/build-meshlab-2025.sh" --print-dir)"
 echo "== build =="
 # Tests, benchmarks and tools on: scripts/demo.sh builds the same folder without them.
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DSODT_MESHLAB2025_DIR="$ML2025" \
+cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DSODT_MESHLAB2025_DIR="$ML2025" -DSODT_BUILD_PLUGIN=ON \
   -DSODT_BUILD_TESTS=ON -DSODT_BUILD_BENCH=ON -DSODT_BUILD_TOOLS=ON
 cmake --build "$BUILD" -j"$JOBS"
 if [ "${SODT_QUICK:-0}" != 1 ]; then
