@@ -348,6 +348,8 @@ TEST(Repair, InsertsPointsInsideTheSliversOfAFlatStripOnThePlane) {
   EXPECT_LT(before, 15.0);
   EXPECT_GE(minAngleDeg(m), 28.0);
   EXPECT_GT(st.verticesAdded, 0);
+  EXPECT_GT(st.repairInserts, 0);
+  EXPECT_EQ(st.repairInserts + st.repairSplits, st.verticesAdded);  // each adds one vertex
   // Every vertex stays on the plane, every face faces up, and the border
   // is the rectangle's: its edges lie on its sides and add up to them.
   double border = 0;

@@ -604,6 +604,9 @@ inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
   int f1, f2;
   if (!interiorEdge(a, b, f1, f2)) return Topology;
   const int c = third(f1, a, b), d = third(f2, a, b);
+  // Refused before the input is searched for the new vertex's place: at a
+  // fan's apex every needle would search the whole fan's nodes.
+  if (atHugeStar({f1, f2})) return OverBound;
   const bool feat = isFeature(a, b);
   const Vec3 mid = pos_[a] + (pos_[b] - pos_[a]) * at;
   Vec3 p = mid;
@@ -618,8 +621,7 @@ inline LocalRepair::Verdict LocalRepair::trySplit(int a, int b, double at) {
         std::max({(t[1] - t[0]).SquaredNorm(), (t[2] - t[1]).SquaredNorm(), (t[0] - t[2]).SquaredNorm()});
     if (!(n.Norm() > kCollapse * longest) || !(n * (k < 2 ? o1 : o2) > 0)) return NoGain;
   }
-  if (atHugeStar({f1, f2}) || !nearInput(made) || !keepsTurn(made) || !keepsInputCovered({f1, f2}, made))
-    return OverBound;
+  if (!nearInput(made) || !keepsTurn(made) || !keepsInputCovered({f1, f2}, made)) return OverBound;
   const int m = static_cast<int>(pos_.size());
   pos_.push_back(p);
   deleted_.push_back(0);
@@ -871,6 +873,7 @@ inline LocalRepair::Verdict LocalRepair::insertInFace(int g, const double bary[3
     const double w = l[(low + 1) % 3] + l[(low + 2) % 3];
     return trySplit(x, y, std::min(0.9, std::max(0.1, l[(low + 2) % 3] / w)));
   }
+  if (atHugeStar({g})) return OverBound;  // before the input is searched, as in trySplit
   const Vec3 &pa = pos_[t[0]], &pb = pos_[t[1]], &pc = pos_[t[2]];
   const Vec3 q = pa * l[0] + pb * l[1] + pc * l[2];
   const double longest = std::max({(pb - pa).Norm(), (pc - pb).Norm(), (pa - pc).Norm()});
@@ -883,8 +886,7 @@ inline LocalRepair::Verdict LocalRepair::insertInFace(int g, const double bary[3
     const double l2 = std::max({(m[1] - m[0]).SquaredNorm(), (m[2] - m[1]).SquaredNorm(), (m[0] - m[2]).SquaredNorm()});
     if (!(nm.Norm() > kCollapse * l2) || !(nm * o > 0)) return NoGain;
   }
-  if (atHugeStar({g}) || foldsNeighbour(g, made) || !nearInput(made) || !keepsTurn(made) ||
-      !keepsInputCovered({g}, made))
+  if (foldsNeighbour(g, made) || !nearInput(made) || !keepsTurn(made) || !keepsInputCovered({g}, made))
     return OverBound;
   // Applied with its flips, then undone unless the smallest angle of the
   // faces they changed rose: with flips bounded by the feature edges and
@@ -1368,6 +1370,7 @@ void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const R
   stats.repairSplits = r.splits;
   stats.repairCollapses = r.collapses;
   stats.repairFlips = r.flips;
+  stats.repairInserts = r.inserts;
   stats.verticesAdded = r.added;
   stats.verticesRemoved = r.removed;
   stats.repairMoves = r.relaxMoves;
