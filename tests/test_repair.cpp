@@ -280,19 +280,7 @@ TEST(Repair, AddedVerticesGetTheAttributesOfTheirEdgeInterpolated) {
   // the texture coordinates (u, v, and a sum of one), must give the
   // quality and colour too.
   const auto insideOf = [&m](std::size_t v, std::size_t a, std::size_t b, std::size_t c) {
-    const auto &V = m.vert[v], &A = m.vert[a], &B = m.vert[b], &C = m.vert[c];
-    const double ax = A.cT().U(), ay = A.cT().V(), bx = B.cT().U(), by = B.cT().V(), cx = C.cT().U(),
-                 cy = C.cT().V(), px = V.cT().U(), py = V.cT().V();
-    const double det = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
-    if (std::abs(det) < 1e-3) return false;
-    const double wb = ((px - ax) * (cy - ay) - (py - ay) * (cx - ax)) / det;
-    const double wc = ((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / det;
-    const double wa = 1 - wb - wc;
-    if (wa < -1e-6 || wb < -1e-6 || wc < -1e-6) return false;
-    if (std::abs(wa * A.cQ() + wb * B.cQ() + wc * C.cQ() - V.cQ()) > 1e-3) return false;
-    for (int k = 0; k < 4; ++k)
-      if (std::abs(wa * A.cC()[k] + wb * B.cC()[k] + wc * C.cC()[k] - V.cC()[k]) > 1.0) return false;
-    return true;
+    return sodt_test::interpolatedInside(m.vert[v], m.vert[a], m.vert[b], m.vert[c]);
   };
   int checked = 0;
   for (std::size_t v = nv0; v < m.vert.size(); ++v) {

@@ -4,6 +4,8 @@
 // Meshes the binary writes are read back with the project's own loader.
 #include <gtest/gtest.h>
 
+#include "../test_mesh.h"
+
 #include <sodt/maths/geometry.h>
 #include <sodt_io/io.h>
 #include <sodt/mesh/output.h>
@@ -2513,21 +2515,6 @@ TEST(CliKeeps, AttributesOfVerticesTheRepairAddsAreInterpolated) {
       if (std::abs(lerp(a.cC()[c], b.cC()[c]) - v.cC()[c]) > 1.0) return false;
     return true;
   };
-  const auto inside = [](const sodt::MeshD::VertexType& v, const sodt::MeshD::VertexType& a,
-                         const sodt::MeshD::VertexType& b, const sodt::MeshD::VertexType& c) {
-    const double ax = a.cT().U(), ay = a.cT().V(), bx = b.cT().U(), by = b.cT().V(), cx = c.cT().U(),
-                 cy = c.cT().V(), px = v.cT().U(), py = v.cT().V();
-    const double det = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
-    if (std::abs(det) < 1e-3) return false;
-    const double wb = ((px - ax) * (cy - ay) - (py - ay) * (cx - ax)) / det;
-    const double wc = ((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / det;
-    const double wa = 1 - wb - wc;
-    if (wa < -1e-6 || wb < -1e-6 || wc < -1e-6) return false;
-    if (std::abs(wa * a.cQ() + wb * b.cQ() + wc * c.cQ() - v.cQ()) > 1e-3) return false;
-    for (int k = 0; k < 4; ++k)
-      if (std::abs(wa * a.cC()[k] + wb * b.cC()[k] + wc * c.cC()[k] - v.cC()[k]) > 1.0) return false;
-    return true;
-  };
   int added = 0;
   for (const auto& v : out.vert) {
     bool carried = false;
@@ -2548,13 +2535,14 @@ TEST(CliKeeps, AttributesOfVerticesTheRepairAddsAreInterpolated) {
     for (std::size_t i = 0; i < near.size() && !found; ++i)
       for (std::size_t j = i + 1; j < near.size() && !found; ++j)
         for (std::size_t k = j + 1; k < near.size() && !found; ++k)
-          found = inside(v, *known[near[i].second], *known[near[j].second], *known[near[k].second]);
+          found = sodt_test::interpolatedInside(v, *known[near[i].second], *known[near[j].second],
+                                                *known[near[k].second]);
     // A needle's corners may lie far: then among all vertices of OUT.
     for (std::size_t a = 0; a < out.vert.size() && !found; ++a)
       for (std::size_t b = a + 1; b < out.vert.size() && !found; ++b)
         for (std::size_t c = b + 1; c < out.vert.size() && !found; ++c)
           found = &out.vert[a] != &v && &out.vert[b] != &v && &out.vert[c] != &v &&
-                  inside(v, out.vert[a], out.vert[b], out.vert[c]);
+                  sodt_test::interpolatedInside(v, out.vert[a], out.vert[b], out.vert[c]);
     EXPECT_TRUE(found) << "texture coordinates " << v.cT().U() << " " << v.cT().V() << ", quality " << v.cQ()
                        << ", colour " << int(v.cC()[0]) << " " << int(v.cC()[1]) << " " << int(v.cC()[2]);
   }
