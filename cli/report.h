@@ -39,6 +39,7 @@ struct Distance {
   bool measured = true;    ///< false: not asked for (smooth --distance off), the rest unset
   double hausdorff = 0;    ///< symmetric Hausdorff (or its lower bound)
   double mean = 0;         ///< mean two-sided distance (NaN with a lower bound)
+  double edges = 0;        ///< largest distance with points along every edge too (>= hausdorff)
   bool lowerBound = false; ///< the mesh left the reference's neighbourhood: vertices only
 };
 

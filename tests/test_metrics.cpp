@@ -400,6 +400,41 @@ TEST(Metrics, SamplesFarOutsideTheOtherMeshAreMeasured) {
   EXPECT_TRUE(std::isfinite(d.meanRel) && d.meanRel > 0 && d.meanRel < d.maxRel);
 }
 
+namespace {
+
+/// Adds the triangle (a, b, c) to m with three vertices of its own.
+void addTriangle(Mesh& m, const vcg::Point3d& a, const vcg::Point3d& b, const vcg::Point3d& c) {
+  vcg::tri::Allocator<Mesh>::AddFace(m, a, b, c);
+}
+
+}  // namespace
+
+/// A valley (z = |x - 0.5|) and the same valley with a needle whose long
+/// edges span it from rim to rim: the needle's corners lie on the valley and
+/// it has almost no area, so neither the vertices nor the area samples see
+/// it, but the middle of its long edges is 0.5 / sqrt(2) from the valley.
+/// maxEdgeRel finds it at the edges' midpoints; maxRel does not.
+TEST(Metrics, PointsAlongTheEdgesFindWhatAreaSamplesMiss) {
+  Mesh valley, needle;
+  for (Mesh* m : {&valley, &needle}) {
+    const vcg::Point3d a(0, 0, 0.5), b(0.5, 0, 0), c(1, 0, 0.5), d(0, 1, 0.5), e(0.5, 1, 0), f(1, 1, 0.5);
+    addTriangle(*m, a, b, e);
+    addTriangle(*m, a, e, d);
+    addTriangle(*m, b, c, f);
+    addTriangle(*m, b, f, e);
+  }
+  addTriangle(needle, vcg::Point3d(0, 0.5, 0.5), vcg::Point3d(1, 0.5, 0.5), vcg::Point3d(1, 0.5 + 1e-7, 0.5));
+  for (Mesh* m : {&valley, &needle}) vcg::tri::UpdateBounding<Mesh>::Box(*m);
+  const double diag = sodt::bboxDiagonal(valley);
+  const sodt::DistanceStats d = sodt::surfaceDistance(needle, valley);
+  EXPECT_LT(d.maxRel * diag, 1e-3);
+  EXPECT_NEAR(d.maxEdgeRel * diag, 0.5 / std::sqrt(2.0), 1e-6);  // rounded to float, as maxRel is
+  // Without the needle the edges add nothing.
+  const sodt::DistanceStats same = sodt::surfaceDistance(valley, valley);
+  EXPECT_EQ(same.maxEdgeRel, same.maxRel);
+  EXPECT_LT(same.maxEdgeRel, 1e-12);
+}
+
 TEST(Metrics, SurfaceDistanceInPlaceEqualsCopying) {
   Mesh a, b;
   sodt_test::makeSphere(a, 4);
@@ -418,6 +453,7 @@ TEST(Metrics, SurfaceDistanceInPlaceEqualsCopying) {
     EXPECT_TRUE(std::isfinite(copying.maxRel) && copying.maxRel > 0) << what;
     EXPECT_TRUE(sameBits(inPlace.maxRel, copying.maxRel)) << what << ": " << inPlace.maxRel << " vs " << copying.maxRel;
     EXPECT_TRUE(sameBits(inPlace.meanRel, copying.meanRel)) << what << ": " << inPlace.meanRel << " vs " << copying.meanRel;
+    EXPECT_TRUE(sameBits(inPlace.maxEdgeRel, copying.maxEdgeRel)) << what;
   };
   check(a, b, "both sampled in place");
   // the sampled mesh keeps what a file would store

@@ -758,7 +758,8 @@ TEST_F(CliTest, SmoothImprovesMinAngleAndWritesReport) {
   for (const char* key :
        {"input", "output", "vertices", "faces", "algorithm", "guard", "iterations", "seconds", "before", "after",
         "min_angle", "max_angle", "angle_histogram", "frac_below_30", "frac_above_90", "p1_tri_min_angle",
-        "volume", "volume_before", "volume_after", "volume_rel_change", "hausdorff_rel", "inverted_faces", "moved", "fallback_moves", "laplacian_fallback",
+        "volume", "volume_before", "volume_after", "volume_rel_change", "hausdorff_rel", "hausdorff_edges_rel",
+        "inverted_faces", "moved", "fallback_moves", "laplacian_fallback",
         "backtracked", "rejected", "failed_solves", "unchanged", "fixed_boundary", "fixed_nonmanifold",
         "cancelled", "min_angle_before", "min_angle_after", "max_angle_before", "max_angle_after", "flips",
         "flips_enabled", "flip_max_dihedral", "keep_best", "tolerance", "returned_sweep", "stopped_early",
@@ -1248,7 +1249,8 @@ TEST_F(CliTest, ThreadsDoNotChangeTheResult) {
 }
 
 TEST_F(CliTest, DistanceOffLeavesOutOnlyTheDistance) {
-  const char* const distanceKeys[] = {"hausdorff_rel", "mean_distance_rel", "hausdorff_is_lower_bound"};
+  const char* const distanceKeys[] = {"hausdorff_rel", "hausdorff_edges_rel", "mean_distance_rel",
+                                      "hausdorff_is_lower_bound"};
   const std::string out = dir_ / "out.ply";  // the same OUT for all: the report names it
   // The default, --distance on (the same), --distance off.
   const std::vector<std::vector<std::string>> extra = {{}, {"--distance", "on"}, {"--distance=off"}};
@@ -1269,6 +1271,8 @@ TEST_F(CliTest, DistanceOffLeavesOutOnlyTheDistance) {
       EXPECT_EQ(json[k].find(std::string("\"") + key + "\": null"), std::string::npos) << key;
     EXPECT_GT(jsonNumber(json[k], "hausdorff_rel"), 0.0) << json[k];
     EXPECT_LT(jsonNumber(json[k], "hausdorff_rel"), 0.1) << json[k];
+    EXPECT_GE(jsonNumber(json[k], "hausdorff_edges_rel"), jsonNumber(json[k], "hausdorff_rel")) << json[k];
+    EXPECT_LT(jsonNumber(json[k], "hausdorff_edges_rel"), 0.1) << json[k];
     EXPECT_NE(run[k].out.find("distance       Hausdorff "), std::string::npos) << run[k].out;
   }
   EXPECT_NE(json[2].find("\"distance_measured\": false"), std::string::npos) << json[2];
@@ -1280,8 +1284,9 @@ TEST_F(CliTest, DistanceOffLeavesOutOnlyTheDistance) {
   // distance and the time, and the faces are still checked for inversion.
   ASSERT_FALSE(mesh[0].empty());
   EXPECT_TRUE(mesh[0] == mesh[1] && mesh[0] == mesh[2]) << "--distance changed OUT";
-  const std::vector<std::string> differ = {"seconds", "distance_measured", "hausdorff_rel", "mean_distance_rel",
-                                           "hausdorff_is_lower_bound"};
+  const std::vector<std::string> differ = {"seconds",           "distance_measured",
+                                           "hausdorff_rel",     "hausdorff_edges_rel",
+                                           "mean_distance_rel", "hausdorff_is_lower_bound"};
   EXPECT_EQ(withoutMembers(json[0], {"seconds"}), withoutMembers(json[1], {"seconds"}));
   EXPECT_EQ(withoutMembers(json[0], differ), withoutMembers(json[2], differ));
   EXPECT_EQ(jsonNumber(json[2], "inverted_faces"), 0) << json[2];

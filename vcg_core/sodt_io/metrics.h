@@ -47,11 +47,19 @@ struct VolumeResult {
 struct DistanceStats {
   double maxRel = 0;   ///< symmetric Hausdorff distance / diagonal
   double meanRel = 0;  ///< mean of the two one-sided mean distances / diagonal
+  /// The largest distance over those samples and points along every edge of
+  /// both meshes (edgeSamples), / diagonal; at least maxRel. Where a surface
+  /// bends, the farthest point between two meshes is often on an edge, at a
+  /// few random surface points from the nearest sample.
+  double maxEdgeRel = 0;
 };
 
 /// Sampling caps of surfaceDistance (per direction).
 constexpr int kMaxVertexSamples = 250000;
 constexpr int kMaxFaceSamples = 500000;
+/// Points per edge of edgeSamples (at most), and their cap per direction.
+constexpr int kEdgePoints = 7;
+constexpr int kMaxEdgeSamples = 500000;
 
 /// How surfaceDistance indexes the faces it measures against: vcglib's grid
 /// or a tree of oriented boxes (see DistanceSampler), or the grid unless it
@@ -704,14 +712,65 @@ void montecarloSamples(From& m, Sampler& ps, int sampleNum) {
   for (std::size_t i = 0; i < n; ++i) ps.AddFace(*face[hit[i]], barycentric[i]);
 }
 
+/// Points along the edges of m, each edge once (on the first face that has
+/// it): k points at j / (k + 1) of its length, j = 1..k, with k =
+/// kEdgePoints or fewer so that about max(20000, 4F) points are taken, at
+/// most kMaxEdgeSamples; beyond that, the midpoints of every s-th edge. No
+/// randomness.
+template <class From, class Sampler>
+void edgeSamples(From& m, Sampler& ps) {
+  using CoordType = typename From::CoordType;
+  using ScalarType = typename From::ScalarType;
+  using VP = typename From::ConstVertexPointer;
+  struct Side {
+    VP lo, hi;
+    std::size_t face;
+    int j;
+  };
+  std::vector<Side> sides;
+  sides.reserve(3 * static_cast<std::size_t>(m.fn));
+  for (std::size_t i = 0; i < m.face.size(); ++i) {
+    const auto& f = m.face[i];
+    if (f.IsD()) continue;
+    for (int j = 0; j < 3; ++j) {
+      const VP a = f.cV(j), b = f.cV((j + 1) % 3);
+      sides.push_back({std::min(a, b), std::max(a, b), i, j});
+    }
+  }
+  std::stable_sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) {
+    return std::less<VP>()(x.lo, y.lo) || (x.lo == y.lo && std::less<VP>()(x.hi, y.hi));
+  });
+  sides.erase(std::unique(sides.begin(), sides.end(),
+                          [](const Side& x, const Side& y) { return x.lo == y.lo && x.hi == y.hi; }),
+              sides.end());
+  if (sides.empty()) return;
+  const std::size_t budget =
+      std::min<std::size_t>(kMaxEdgeSamples, std::max<std::size_t>(20000, 4 * static_cast<std::size_t>(m.fn)));
+  const int k = static_cast<int>(std::min<std::size_t>(kEdgePoints, std::max<std::size_t>(1, budget / sides.size())));
+  const std::size_t stride = std::max<std::size_t>(1, (sides.size() + budget - 1) / budget);
+  for (std::size_t e = 0; e < sides.size(); e += stride) {
+    const Side& s = sides[e];
+    for (int i = 1; i <= k; ++i) {
+      const ScalarType t = ScalarType(i) / ScalarType(k + 1);
+      CoordType w(0, 0, 0);
+      w[s.j] = 1 - t;
+      w[(s.j + 1) % 3] = t;
+      ps.AddFace(m.face[s.face], w);
+    }
+  }
+}
+
 /// One-sided distances from samples of `from` (all vertices plus area-uniform
 /// random points with a fixed seed) to the surface of `to`. Both are double
 /// meshes (MeshD or SampleMesh) without deleted faces and with an up-to-date
 /// bounding box; `to` gets normalized face normals. simd: see DistanceSampler
-/// (the results are the same either way).
+/// (the results are the same either way). edgeMax, when not null, receives
+/// the largest distance over those samples and edgeSamples(from) too (they
+/// change neither returned value).
 template <class From, class To>
 std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound, int threads = 1,
-                                           bool simd = true, FaceIndex index = FaceIndex::Auto) {
+                                           bool simd = true, FaceIndex index = FaceIndex::Auto,
+                                           double* edgeMax = nullptr) {
   using Sampler = DistanceSampler<To>;
   Sampler hs(to, upperBound, from.bbox, simd, threads, index);
   using SS = vcg::tri::SurfaceSampling<From, Sampler>;
@@ -725,8 +784,17 @@ std::pair<double, double> oneSidedDistance(From& from, To& to, double upperBound
   const int faceSamples = std::min(kMaxFaceSamples, std::max(10000, 2 * from.fn));
   if (from.fn > 0 && totalArea(from) > 0) montecarloSamples(from, hs, faceSamples);  // no area: nothing to sample
   hs.measure(threads);
-  if (hs.samples() == 0) return {std::numeric_limits<double>::infinity(), 0.0};
-  return {double(hs.maxDist()), double(hs.meanDist())};
+  if (hs.samples() == 0) {
+    if (edgeMax) *edgeMax = std::numeric_limits<double>::infinity();
+    return {std::numeric_limits<double>::infinity(), 0.0};
+  }
+  const std::pair<double, double> r{double(hs.maxDist()), double(hs.meanDist())};
+  if (edgeMax) {
+    edgeSamples(from, hs);
+    hs.measure(threads);
+    *edgeMax = double(hs.maxDist());
+  }
+  return r;
 }
 
 /// surfaceDistance of two meshes that can be sampled as they are (as copyLive
@@ -737,7 +805,7 @@ DistanceStats distanceAsIs(MeshA& A, MeshB& B, int threads) {
   DistanceStats d;
   const double diag = B.bbox.Diag();
   if (A.fn == 0 || B.fn == 0 || !(diag > 0) || !std::isfinite(diag) || !std::isfinite(A.bbox.Diag())) {
-    d.maxRel = d.meanRel = std::numeric_limits<double>::infinity();
+    d.maxRel = d.meanRel = d.maxEdgeRel = std::numeric_limits<double>::infinity();
     return d;
   }
   // A mesh that has run away (e.g. an unguarded run that diverged) would make
@@ -755,11 +823,11 @@ DistanceStats distanceAsIs(MeshA& A, MeshB& B, int threads) {
     return true;
   };
   if (!farthestOutside(A, B.bbox) || !farthestOutside(B, A.bbox)) {
-    d.maxRel = d.meanRel = std::numeric_limits<double>::infinity();
+    d.maxRel = d.meanRel = d.maxEdgeRel = std::numeric_limits<double>::infinity();
     return d;
   }
   if (farthest > kFarDiagonals * diag) {
-    d.maxRel = farthest / diag;
+    d.maxRel = d.maxEdgeRel = farthest / diag;
     d.meanRel = std::numeric_limits<double>::quiet_NaN();
     return d;
   }
@@ -771,10 +839,14 @@ DistanceStats distanceAsIs(MeshA& A, MeshB& B, int threads) {
   const bool aFlat = !(totalArea(A) > 0), bFlat = !(totalArea(B) > 0);
   if (aFlat) pointsOnly(A, Apts);
   if (bFlat) pointsOnly(B, Bpts);
-  const auto ab = bFlat ? oneSidedDistance(A, Bpts, bound, threads) : oneSidedDistance(A, B, bound, threads);
-  const auto ba = aFlat ? oneSidedDistance(B, Apts, bound, threads) : oneSidedDistance(B, A, bound, threads);
+  double abEdge = 0, baEdge = 0;
+  const auto ab = bFlat ? oneSidedDistance(A, Bpts, bound, threads, true, FaceIndex::Auto, &abEdge)
+                        : oneSidedDistance(A, B, bound, threads, true, FaceIndex::Auto, &abEdge);
+  const auto ba = aFlat ? oneSidedDistance(B, Apts, bound, threads, true, FaceIndex::Auto, &baEdge)
+                        : oneSidedDistance(B, A, bound, threads, true, FaceIndex::Auto, &baEdge);
   d.maxRel = std::max(ab.first, ba.first) / diag;
   d.meanRel = 0.5 * (ab.second + ba.second) / diag;
+  d.maxEdgeRel = std::max(d.maxRel, std::max(abEdge, baEdge) / diag);
   return d;
 }
 
