@@ -218,10 +218,10 @@ void saveClassMesh(sodt::PendingFile& f, MeshD& m, const sodt::Classification& c
 void printRepairSummary(const sodt::SodtParams& p, const sodt::SodtStats& st) {
   int why[4] = {0, 0, 0, 0};
   for (const sodt::RemainingTriangle& t : st.belowTarget) ++why[static_cast<int>(t.why)];
-  std::printf("  repair         %d vertices added, %d removed (%d splits, %d collapses, %d flips, %lld moves); "
-              "%zu triangles below %s deg",
-              st.verticesAdded, st.verticesRemoved, st.repairSplits, st.repairCollapses, st.repairFlips,
-              st.repairMoves, st.belowTarget.size(), numberText(p.repairAngleDeg).c_str());
+  std::printf("  repair         %d vertices added, %d removed (%d splits, %d points inserted, %d collapses, %d flips, "
+              "%lld moves); %zu triangles below %s deg",
+              st.verticesAdded, st.verticesRemoved, st.repairSplits, st.repairInserts, st.repairCollapses,
+              st.repairFlips, st.repairMoves, st.belowTarget.size(), numberText(p.repairAngleDeg).c_str());
   if (!st.belowTarget.empty()) {
     std::printf(" (");
     const char* sep = "";
@@ -366,6 +366,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   j["vertices_added"] = st.verticesAdded;
   j["vertices_removed"] = st.verticesRemoved;
   j["repair_splits"] = st.repairSplits;
+  j["repair_inserts"] = st.repairInserts;
   j["repair_collapses"] = st.repairCollapses;
   j["repair_flips"] = st.repairFlips;
   j["repair_moves"] = st.repairMoves;

@@ -337,9 +337,9 @@ void logSmoothing(const SmoothingRun& run, const LogFn& log) {
                                   s.slidingBoundary, s.movedBoundary, s.boundaryCorners));
   if (p.repair)
     log(LogLevel::Info,
-        strFormat("S-ODT: local repair: %d vertices added, %d removed (%d splits, %d collapses, %d flips); %d "
-                  "triangles left below %g deg",
-                  s.verticesAdded, s.verticesRemoved, s.repairSplits, s.repairCollapses, s.repairFlips,
+        strFormat("S-ODT: local repair: %d vertices added, %d removed (%d splits, %d points inserted, %d collapses, "
+                  "%d flips); %d triangles left below %g deg",
+                  s.verticesAdded, s.verticesRemoved, s.repairSplits, s.repairInserts, s.repairCollapses, s.repairFlips,
                   int(s.belowTarget.size()), p.repairAngleDeg));
   if (s.reorientedFaces > 0)
     log(LogLevel::Info, strFormat("S-ODT: turned %d faces over so that each part of the mesh has one winding",
@@ -399,7 +399,7 @@ Report smoothingReport(const CMeshO& m, const SmoothingRun& run) {
       {"rejected", s.rejected}, {"failed_solves", s.failedSolves}, {"unchanged", s.unchanged},
       {"skipped_visits", s.skipped}, {"flips", s.flips}, {"faces_changed", run.facesChanged},
       {"vertices_added", s.verticesAdded}, {"vertices_removed", s.verticesRemoved},
-      {"repair_splits", s.repairSplits}, {"repair_collapses", s.repairCollapses},
+      {"repair_splits", s.repairSplits}, {"repair_inserts", s.repairInserts}, {"repair_collapses", s.repairCollapses},
       {"repair_flips", s.repairFlips}, {"below_repair_angle", static_cast<long long>(s.belowTarget.size())}};
   for (const auto& c : counters) r[c.first] = count(c.second);
   r["seconds"] = s.sweepSeconds;

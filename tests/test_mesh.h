@@ -44,6 +44,26 @@ std::vector<std::array<int, 3>> faceIndices(const M& m) {
   return f;
 }
 
+/// True when vertex v's texture coordinates lie in the triangle of a's, b's
+/// and c's (barycentric weights of at least -1e-6) and its quality and
+/// colour are the same weights' mix of theirs: the attributes of a point
+/// inserted inside the face (a, b, c).
+template <class V>
+bool interpolatedInside(const V& v, const V& a, const V& b, const V& c) {
+  const double ax = a.cT().U(), ay = a.cT().V(), bx = b.cT().U(), by = b.cT().V(), cx = c.cT().U(),
+               cy = c.cT().V(), px = v.cT().U(), py = v.cT().V();
+  const double det = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+  if (std::abs(det) < 1e-3) return false;
+  const double wb = ((px - ax) * (cy - ay) - (py - ay) * (cx - ax)) / det;
+  const double wc = ((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / det;
+  const double wa = 1 - wb - wc;
+  if (wa < -1e-6 || wb < -1e-6 || wc < -1e-6) return false;
+  if (std::abs(wa * a.cQ() + wb * b.cQ() + wc * c.cQ() - v.cQ()) > 1e-3) return false;
+  for (int k = 0; k < 4; ++k)
+    if (std::abs(wa * a.cC()[k] + wb * b.cC()[k] + wc * c.cC()[k] - v.cC()[k]) > 1.0) return false;
+  return true;
+}
+
 /// Adds a triangle with the given vertex indices.
 template <class M>
 void addFace(M& m, int a, int b, int c) {

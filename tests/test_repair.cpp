@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <array>
 #include <limits>
@@ -246,7 +247,8 @@ TEST(Repair, FacesItMakesKeepWithinTheTurnBoundOfTheInputUnderThem) {
 TEST(Repair, AddedVerticesGetTheAttributesOfTheirEdgeInterpolated) {
   // Every vertex gets random texture coordinates, colour and quality; the
   // ones the repair adds must each be the same interpolation t of the two
-  // ends of an edge (original or added before them) in every attribute.
+  // ends of an edge (original or added before them) in every attribute, or
+  // the same barycentric weights of three (a point inserted in a face).
   sodt::MeshD m;
   sodt::loadMesh(testData("repair_fold_cone256.ply"), m);
   std::mt19937 g(7);
@@ -274,6 +276,12 @@ TEST(Repair, AddedVerticesGetTheAttributesOfTheirEdgeInterpolated) {
       if (std::abs(lerp(A.cC()[c], B.cC()[c]) - V.cC()[c]) > 1.0) return false;
     return true;
   };
+  // A vertex inserted inside a face: weights of three sources, solved from
+  // the texture coordinates (u, v, and a sum of one), must give the
+  // quality and colour too.
+  const auto insideOf = [&m](std::size_t v, std::size_t a, std::size_t b, std::size_t c) {
+    return sodt_test::interpolatedInside(m.vert[v], m.vert[a], m.vert[b], m.vert[c]);
+  };
   int checked = 0;
   for (std::size_t v = nv0; v < m.vert.size(); ++v) {
     if (m.vert[v].IsD()) continue;
@@ -281,11 +289,111 @@ TEST(Repair, AddedVerticesGetTheAttributesOfTheirEdgeInterpolated) {
     bool found = false;
     for (std::size_t a = 0; a < v && !found; ++a)
       for (std::size_t b = a + 1; b < v && !found; ++b) found = interpolates(v, a, b);
+    // The sources of an inserted vertex: among the 40 nearest first (they
+    // lie around it), then among all (a needle's corners may lie far).
+    std::vector<std::pair<double, std::size_t>> near;
+    for (std::size_t a = 0; a < v && !found; ++a) near.push_back({(m.vert[a].cP() - m.vert[v].cP()).Norm(), a});
+    std::sort(near.begin(), near.end());
+    near.resize(std::min<std::size_t>(near.size(), 40));
+    for (std::size_t i = 0; i < near.size() && !found; ++i)
+      for (std::size_t j = i + 1; j < near.size() && !found; ++j)
+        for (std::size_t k = j + 1; k < near.size() && !found; ++k)
+          found = insideOf(v, near[i].second, near[j].second, near[k].second);
+    for (std::size_t a = 0; a < v && !found; ++a)
+      for (std::size_t b = a + 1; b < v && !found; ++b)
+        for (std::size_t c = b + 1; c < v && !found; ++c) found = insideOf(v, a, b, c);
     EXPECT_TRUE(found) << "added vertex " << v << ": texture coordinates " << m.vert[v].cT().U() << " "
                        << m.vert[v].cT().V() << ", quality " << m.vert[v].cQ() << ", colour "
                        << int(m.vert[v].cC()[0]) << " " << int(m.vert[v].cC()[1]) << " " << int(m.vert[v].cC()[2]);
   }
   EXPECT_GT(checked, 0);
+}
+
+/// A flat strip [0,1] x [0,h] in z = 0 whose two long borders are split
+/// into n segments and joined by a zigzag of slivers spanning the strip,
+/// as CAD exports triangulate a flat face between two feature lines:
+/// every vertex on the border, no vertex move can help, and splitting a
+/// sliver's long edge keeps a small angle on each side.
+void slicedStrip(sodt::MeshD& m, int n, double h) {
+  m.Clear();
+  vcg::tri::Allocator<sodt::MeshD>::AddVertices(m, 2 * (n + 1));
+  for (int i = 0; i <= n; ++i) {
+    m.vert[i].P() = vcg::Point3d(i / double(n), 0, 0);
+    m.vert[n + 1 + i].P() = vcg::Point3d(i / double(n), h, 0);
+  }
+  for (int i = 0; i < n; ++i) {
+    sodt_test::addFace(m, i, i + 1, n + 1 + i);
+    sodt_test::addFace(m, i + 1, n + 2 + i, n + 1 + i);
+  }
+}
+
+TEST(Repair, InsertsPointsInsideTheSliversOfAFlatStripOnThePlane) {
+  sodt::MeshD m;
+  slicedStrip(m, 8, 0.5);
+  const double before = minAngleDeg(m);
+  const sodt::SodtStats st = sodt::SodtSmoother<sodt::MeshD>::Apply(m, repairParams(true));
+  // Edge splits alone (before insertion) ended at 19.8 degrees.
+  EXPECT_LT(before, 15.0);
+  EXPECT_GE(minAngleDeg(m), 28.0);
+  EXPECT_GT(st.verticesAdded, 0);
+  EXPECT_GT(st.repairInserts, 0);
+  EXPECT_EQ(st.repairInserts + st.repairSplits, st.verticesAdded);  // each adds one vertex
+  // Every vertex stays on the plane, every face faces up, and the border
+  // is the rectangle's: its edges lie on its sides and add up to them.
+  double border = 0;
+  for (const auto& v : m.vert) {
+    if (v.IsD()) continue;
+    EXPECT_EQ(v.cP()[2], 0.0);
+  }
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    EXPECT_GT(((f.cP(1) - f.cP(0)) ^ (f.cP(2) - f.cP(0)))[2], 0.0);
+  }
+  for (const auto& kv : directedEdges(m)) {
+    if (directedEdges(m).count({kv.first.second, kv.first.first})) continue;
+    const vcg::Point3d a = m.vert[kv.first.first].cP(), b = m.vert[kv.first.second].cP();
+    const auto onSide = [](const vcg::Point3d& p) {
+      return p[0] == 0 || p[0] == 1 || p[1] == 0 || p[1] == 0.5;
+    };
+    EXPECT_TRUE(onSide(a) && onSide(b) && onSide((a + b) * 0.5)) << a[0] << " " << a[1] << " " << b[0] << " " << b[1];
+    border += (a - b).Norm();
+  }
+  EXPECT_NEAR(border, 3.0, 1e-12);
+}
+
+TEST(Repair, SplitsTheBorderEdgeAnInsertedPointWouldLieBeyond) {
+  // A cap on the border A-B, its apex C just above the border's midpoint:
+  // its circumcentre (and off-centre) lie below A-B, outside the mesh, so
+  // the border edge is split at its midpoint instead (Ruppert's rule).
+  std::vector<Vec3> pos = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0.1, 0), Vec3(0.5, 1, 0)};
+  sodt::FaceList faces;
+  faces.tri = {{{0, 1, 2}}, {{0, 2, 3}}, {{2, 1, 3}}};
+  faces.live.assign(3, 1);
+  faces.flippable.assign(3, 1);
+  std::vector<char> deleted(4, 0), movable = {0, 0, 1, 0};
+  sodt::RepairSettings s;
+  s.targetRad = 30 * sodt::kPi / 180;
+  s.maxChanges = 4;
+  sodt::LocalRepair repair(pos, faces, deleted, nullptr, s);
+  repair.setUp(movable, nullptr, nullptr);
+  repair.run();
+  ASSERT_GE(repair.added().size(), 1u);
+  const sodt::EdgePoint& e = repair.added()[0];
+  EXPECT_EQ(std::min(e.a, e.b), 0);
+  EXPECT_EQ(std::max(e.a, e.b), 1);
+  EXPECT_EQ(e.c, -1);
+  EXPECT_EQ(e.t, 0.5);
+  EXPECT_TRUE(repair.newCrease()[0]);
+  EXPECT_EQ(pos[4][0], 0.5);
+  EXPECT_EQ(pos[4][1], 0.0);
+  for (const Vec3& p : pos) EXPECT_EQ(p[2], 0.0);
+  // The cap is gone: the smallest angle is far above its 11 degrees.
+  double worst = 180;
+  for (std::size_t f = 0; f < faces.tri.size(); ++f)
+    if (faces.live[f])
+      worst = std::min(worst, sodt::triangleMinAngle(pos[faces.tri[f][0]], pos[faces.tri[f][1]], pos[faces.tri[f][2]]) *
+                                  180 / sodt::kPi);
+  EXPECT_GT(worst, 20.0);
 }
 
 /// A mesh type with per-wedge texture coordinates, which no split, collapse

@@ -302,9 +302,10 @@ std::string changesLine(const sodt::SodtParams& p, const sodt::SodtStats& s) {
   for (const sodt::RemainingTriangle& b : s.belowTarget) ++why[static_cast<int>(b.why)];
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "; repair: %d vertices added, %d removed (%d splits, %d collapses, %d flips, %lld relaxing moves), "
-                "%zu triangles left below %g°",
-                s.verticesAdded, s.verticesRemoved, s.repairSplits, s.repairCollapses, s.repairFlips, s.repairMoves,
+                "; repair: %d vertices added, %d removed (%d splits, %d points inserted, %d collapses, %d flips, "
+                "%lld relaxing moves), %zu triangles left below %g°",
+                s.verticesAdded, s.verticesRemoved, s.repairSplits, s.repairInserts, s.repairCollapses, s.repairFlips,
+                s.repairMoves,
                 s.belowTarget.size(), p.repairAngleDeg);
   t += buf;
   if (!s.belowTarget.empty()) {

@@ -4,6 +4,8 @@
 // Meshes the binary writes are read back with the project's own loader.
 #include <gtest/gtest.h>
 
+#include "../test_mesh.h"
+
 #include <sodt/maths/geometry.h>
 #include <sodt_io/io.h>
 #include <sodt/mesh/output.h>
@@ -2472,8 +2474,9 @@ TEST(CliKeeps, AttributesOfVerticesTheRepairAddsAreInterpolated) {
   // Each vertex of the input gets its own random texture coordinates,
   // colour and quality. A vertex of OUT either carries an input vertex's,
   // or was added by the repair and holds the same interpolation t of two
-  // vertices' in every attribute (the ends of the edge it split), not
-  // coordinates nobody computed, white or quality 0.
+  // vertices' in every attribute (the ends of the edge it split), or the
+  // same barycentric weights of three (the corners of the face it was
+  // inserted in), not coordinates nobody computed, white or quality 0.
   TempDir dir;
   sodt::MeshD m;
   sodt::loadMesh(std::string(SODT_TEST_DATA_DIR) + "/repair_fold_cone256.ply", m);
@@ -2526,6 +2529,25 @@ TEST(CliKeeps, AttributesOfVerticesTheRepairAddsAreInterpolated) {
     bool found = false;
     for (std::size_t a = 0; a < known.size() && !found; ++a)
       for (std::size_t b = a + 1; b < known.size() && !found; ++b) found = interpolates(v, *known[a], *known[b]);
+    // Or it was inserted inside a face: the same barycentric weights of
+    // three vertices in every attribute, looked for among the 40 nearest
+    // first.
+    std::vector<std::pair<double, std::size_t>> near;
+    for (std::size_t a = 0; a < known.size() && !found; ++a)
+      if (known[a] != &v) near.push_back({(known[a]->cP() - v.cP()).Norm(), a});
+    std::sort(near.begin(), near.end());
+    near.resize(std::min<std::size_t>(near.size(), 40));
+    for (std::size_t i = 0; i < near.size() && !found; ++i)
+      for (std::size_t j = i + 1; j < near.size() && !found; ++j)
+        for (std::size_t k = j + 1; k < near.size() && !found; ++k)
+          found = sodt_test::interpolatedInside(v, *known[near[i].second], *known[near[j].second],
+                                                *known[near[k].second]);
+    // A needle's corners may lie far: then among all vertices of OUT.
+    for (std::size_t a = 0; a < out.vert.size() && !found; ++a)
+      for (std::size_t b = a + 1; b < out.vert.size() && !found; ++b)
+        for (std::size_t c = b + 1; c < out.vert.size() && !found; ++c)
+          found = &out.vert[a] != &v && &out.vert[b] != &v && &out.vert[c] != &v &&
+                  sodt_test::interpolatedInside(v, out.vert[a], out.vert[b], out.vert[c]);
     EXPECT_TRUE(found) << "texture coordinates " << v.cT().U() << " " << v.cT().V() << ", quality " << v.cQ()
                        << ", colour " << int(v.cC()[0]) << " " << int(v.cC()[1]) << " " << int(v.cC()[2]);
   }

@@ -44,8 +44,8 @@ def test_sodt_beats_every_vertex_moving_builtin_at_no_larger_distance(pm, tmp_pa
     assert repair.two_manifold
     assert repair.min_angle >= flips.min_angle
     if flips.min_angle < REPAIR_ANGLE:  # below the repair's target: the repair must act
-        assert (repair.report["repair_splits"] + repair.report["repair_collapses"]
-                + repair.report["repair_flips"]) > 0
+        assert (repair.report["repair_splits"] + repair.report["repair_inserts"]
+                + repair.report["repair_collapses"] + repair.report["repair_flips"]) > 0
         assert repair.min_angle > flips.min_angle
     verdict = pc.repair_verdict(inp, rows)
     assert verdict is not None

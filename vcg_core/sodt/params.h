@@ -265,9 +265,10 @@ struct SodtStats {
   /// left out.
   double maxFaceTurnDeg = 0;
   /// The repair's changes (SodtParams::repair): edges split, collapsed and
-  /// flipped, vertices added and removed, S-ODT moves of the changed
-  /// neighbourhoods, and the triangles left below the target.
-  int repairSplits = 0, repairCollapses = 0, repairFlips = 0;
+  /// flipped, points inserted inside faces, vertices added and removed,
+  /// S-ODT moves of the changed neighbourhoods, and the triangles left
+  /// below the target.
+  int repairSplits = 0, repairCollapses = 0, repairFlips = 0, repairInserts = 0;
   int verticesAdded = 0, verticesRemoved = 0;
   long long repairMoves = 0;
   std::vector<RemainingTriangle> belowTarget;
