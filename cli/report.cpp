@@ -334,7 +334,14 @@ void printSmoothSummary(const SmoothOptions& o, const MeshD& m, const SmoothResu
                 r.invertedFaceByFace && st.flips > 0 ? "; the returned state has the input's connectivity" : "");
   else
     std::printf("  flips          off\n");
-  if (o.params.repair) printRepairSummary(o.params, st);
+  if (o.params.repair) {
+    printRepairSummary(o.params, st);
+    if (r.corners.corners > 0)
+      std::printf("  corners        %d between features sharper than %s deg (smallest %.2f deg, %lld faces); "
+                  "min angle elsewhere %.2f deg\n",
+                  r.corners.corners, numberText(o.params.repairAngleDeg).c_str(), r.corners.smallestDeg,
+                  r.corners.faces, r.corners.minAngleElsewhereDeg);
+  }
   std::printf("  returned       the state after sweep %d of %d (keep best %s)", st.returnedSweep, st.iterations,
               o.params.keepBest ? "on" : "off");
   if (st.stoppedEarly)
@@ -371,6 +378,15 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   j["repair_flips"] = st.repairFlips;
   j["repair_moves"] = st.repairMoves;
   j["below_repair_angle"] = remainingTriangles(st);
+  if (o.params.repair) {
+    j["protected_angles"] = {{"corners", r.corners.corners},
+                             {"smallest_deg", number(r.corners.smallestDeg)},
+                             {"faces", r.corners.faces}};
+    j["min_angle_unprotected"] = number(r.corners.minAngleElsewhereDeg);
+  } else {
+    j["protected_angles"] = nullptr;
+    j["min_angle_unprotected"] = nullptr;
+  }
   j["seconds"] = number(r.seconds);
   j["threads"] = st.threads;
   j["min_angle_before"] = number(before.angles.minDeg);

@@ -7,6 +7,7 @@
 #include "options.h"
 
 #include <sodt/maths/classify.h>
+#include <sodt_io/corners.h>
 #include <sodt_io/io.h>
 #include <sodt_io/mesh.h>
 #include <sodt_io/metrics.h>
@@ -93,6 +94,9 @@ struct SmoothResult {
   sodt::SodtStats stats;
   sodt::Classification classes;
   double seconds = 0;       ///< the smoothing alone
+  /// With the repair: the output's corners between features sharper than
+  /// its target (sodt::protectedAngles with the repair's feature angle).
+  sodt::ProtectedAngles corners;
 };
 
 /// The summary of `sodt smooth` on stdout.

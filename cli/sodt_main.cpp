@@ -194,6 +194,7 @@ int runSmooth(const SmoothOptions& o) {
 
   gStatus.draw("measuring output...");
   r.after = measure(m, st.threads);
+  if (o.params.repair) r.corners = sodt::protectedAngles(m, o.params.featureAngleDeg, o.params.repairAngleDeg);
   {
     sodt::SampleMesh ref;  // freed before the save, which reads OUT back
     rebuildInput(input, m, ref, st.reorientedFaces > 0);

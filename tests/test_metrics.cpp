@@ -2,6 +2,7 @@
 // Tests of the quality measures on shapes with known answers.
 #include "test_mesh.h"
 
+#include <sodt_io/corners.h>
 #include <sodt_io/metrics.h>
 #include <vcg/complex/append.h>
 
@@ -670,4 +671,56 @@ TEST(Metrics, NeedleFansAreMeasuredInTheTreeWithVcglibsDistances) {
     EXPECT_TRUE(sameBits(ba.second, expectedBa.second)) << ba.second << " vs " << expectedBa.second << ", " << threads;
   }
   EXPECT_GT(expected.first, 1e-4);  // the rims differ
+}
+
+/// A lone triangle with a 10-degree corner: its two border edges meet
+/// there at less than the target, so no remesh that keeps the border can
+/// do better; the corner is counted and its face left out of the rest.
+TEST(Metrics, ABorderCornerSharperThanTheTargetIsProtected) {
+  Mesh m;
+  const double a = 10 * sodt::kPi / 180;
+  addTriangle(m, vcg::Point3d(0, 0, 0), vcg::Point3d(1, 0, 0), vcg::Point3d(std::cos(a), std::sin(a), 0));
+  const sodt::ProtectedAngles p = sodt::protectedAngles(m, 30.0, 25.0);
+  EXPECT_EQ(p.corners, 1);
+  EXPECT_NEAR(p.smallestDeg, 10.0, 1e-9);
+  EXPECT_EQ(p.faces, 1);
+  EXPECT_EQ(p.minAngleElsewhereDeg, 180.0);
+  // Below a 5-degree target nothing is protected.
+  const sodt::ProtectedAngles none = sodt::protectedAngles(m, 30.0, 5.0);
+  EXPECT_EQ(none.corners, 0);
+  EXPECT_EQ(none.faces, 0);
+  EXPECT_NEAR(none.minAngleElsewhereDeg, 10.0, 1e-9);
+}
+
+/// A flat strip with a 1-degree sliver whose apex is lifted a little: its
+/// normal turns 58 degrees from its neighbours', so a plain dihedral test
+/// reads its edges as feature lines meeting at 1 degree. A sliver's normal
+/// says nothing about features: it is not protected, and it is the mesh's
+/// smallest angle. A real fin beside it (two faces at 90 degrees meeting
+/// at 20 degrees) is.
+TEST(Metrics, ASliverIsNotAFeatureCorner) {
+  Mesh m;
+  const vcg::Point3d A(0, 0, 0), B(1, 0, 0), C(0.5, 0.005, 0.008), D(0.5, -1, 0), E(0.5, 1, 0);
+  addTriangle(m, A, D, B);
+  addTriangle(m, A, B, C);
+  addTriangle(m, A, C, E);
+  addTriangle(m, C, B, E);
+  vcg::tri::Clean<Mesh>::RemoveDuplicateVertex(m);
+  const double sliver = std::atan(std::sqrt(0.005 * 0.005 + 0.008 * 0.008) / 0.5) * 180 / sodt::kPi;
+  sodt::ProtectedAngles p = sodt::protectedAngles(m, 30.0, 25.0);
+  EXPECT_EQ(p.corners, 0);
+  EXPECT_EQ(p.faces, 0);
+  EXPECT_NEAR(p.minAngleElsewhereDeg, sliver, 1e-6);
+  // The fin: faces (P, Q, R) in z = 0 and (P, Q, S) in y = 0 along the
+  // edge PQ; its corner at P is 20 degrees on both sides, between PQ (a
+  // feature, 90 degrees) and the borders PR and PS.
+  Mesh fin;
+  const double t = std::tan(20 * sodt::kPi / 180);
+  addTriangle(fin, vcg::Point3d(10, 0, 0), vcg::Point3d(11, 0, 0), vcg::Point3d(11, t, 0));
+  addTriangle(fin, vcg::Point3d(11, 0, 0), vcg::Point3d(10, 0, 0), vcg::Point3d(11, 0, t));
+  vcg::tri::Clean<Mesh>::RemoveDuplicateVertex(fin);
+  p = sodt::protectedAngles(fin, 30.0, 25.0);
+  EXPECT_EQ(p.corners, 2);
+  EXPECT_NEAR(p.smallestDeg, 20.0, 1e-9);
+  EXPECT_EQ(p.faces, 2);
 }

@@ -766,7 +766,7 @@ TEST_F(CliTest, SmoothImprovesMinAngleAndWritesReport) {
         "cancelled", "min_angle_before", "min_angle_after", "max_angle_before", "max_angle_after", "flips",
         "flips_enabled", "flip_max_dihedral", "keep_best", "tolerance", "returned_sweep", "stopped_early",
         "threads", "skipped_visits", "deviation_queries", "deviation_reused", "lane_visits", "max_face_turn",
-        "max_face_turn_deg"})
+        "max_face_turn_deg", "protected_angles", "min_angle_unprotected"})
     EXPECT_NE(json.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
   EXPECT_EQ(jsonNumber(json, "vertices"), mesh_.vertices());
   EXPECT_EQ(jsonNumber(json, "faces"), mesh_.faces());
