@@ -34,6 +34,9 @@ PACKAGES=(
   meshlab xvfb xauth
   qtbase5-dev libqt5opengl5-dev libglew-dev
   libgtest-dev libbenchmark-dev
+  # CGAL 5.5's remeshers, the peers of the local repair in bench/compare
+  # (header-only; only the tool sodt_cgal_remesh includes it)
+  libcgal-dev
   # the function-length check of the core (tests/scripts/function_length_test.sh)
   universal-ctags
   # fuzzing and sanitizer builds (clang's libFuzzer runtime)

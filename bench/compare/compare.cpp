@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -62,9 +63,17 @@ const std::vector<Method>& allMethods() {
        "Remeshing: Isotropic Explicit Remeshing", false, "#843c39"},
       {"ml_isotropic_edge", "MeshLab Isotropic Explicit Remeshing, target = mean edge", Kind::Builtin, A::Basic,
        "Remeshing: Isotropic Explicit Remeshing", false, "#e7969c"},
+      {"ml_isotropic_edge_dist", "MeshLab Isotropic Explicit Remeshing, target = mean edge, surface distance 0.1%",
+       Kind::Builtin, A::Basic, "Remeshing: Isotropic Explicit Remeshing", false, "#ad494a"},
+      {"cgal_isotropic_edge", "CGAL isotropic_remeshing, target = mean edge", Kind::External, A::Basic, "isotropic",
+       false, "#fd8d3c"},
+      {"cgal_degenerate", "CGAL remove_almost_degenerate_faces", Kind::External, A::Basic, "degenerate", false,
+       "#31a354"},
   };
   return methods;
 }
+
+std::string cgalRemeshTool() { return SODT_COMPARE_CGAL_REMESH; }
 
 const Method* findMethod(const std::string& id) {
   for (const Method& m : allMethods())
@@ -152,7 +161,9 @@ std::vector<MlxParam> builtinParams(const Method& m, int iterations, double bbox
     v.push_back(p("SelectedOnly", "RichBool", "false"));                   // Remesh only selected faces
     // Target Length: the default (1% of the diagonal) refines or coarsens the
     // mesh; the second remeshing row keeps the input's resolution instead.
-    MlxParam t = m.id == "ml_isotropic_edge"
+    const bool atMeanEdge = m.id == "ml_isotropic_edge" || m.id == "ml_isotropic_edge_dist";
+    const bool checked = m.id == "ml_isotropic_edge_dist";
+    MlxParam t = atMeanEdge
                      ? p("TargetLen", "RichAbsPerc", floatText(meanEdge), "the input's mean edge length (default: 1% of the bounding-box diagonal)")
                      : p("TargetLen", "RichAbsPerc", pct);
     t.min = "0";
@@ -161,8 +172,11 @@ std::vector<MlxParam> builtinParams(const Method& m, int iterations, double bbox
     v.push_back(p("FeatureDeg", "RichFloat", "30"));  // Crease Angle
     // Check Surface Distance: its default is an uninitialised member in
     // 2020.09 (false in practice); written explicitly.
-    v.push_back(p("CheckSurfDist", "RichBool", "false"));
-    MlxParam d = p("MaxSurfDist", "RichAbsPerc", pct);  // Max. Surface Distance
+    v.push_back(checked ? p("CheckSurfDist", "RichBool", "true", "on, at S-ODT's deviation bound (default: off)")
+                        : p("CheckSurfDist", "RichBool", "false"));
+    MlxParam d = checked ? p("MaxSurfDist", "RichAbsPerc", floatText(0.001 * bboxDiag),
+                             "0.1% of the bounding-box diagonal, S-ODT's deviation bound (default: 1%)")
+                         : p("MaxSurfDist", "RichAbsPerc", pct);  // Max. Surface Distance
     d.min = "0";
     d.max = floatText(bboxDiag);
     v.push_back(d);
@@ -243,6 +257,28 @@ void measureAngles(const MeshD& m, Metrics& r) {
   r.fracBelow30 = a.fracBelow30;
   r.p1TriMinDeg = a.p1TriMinDeg;
   r.histogram = a.histogram;
+  // Needles and caps by CGAL's definitions (is_needle_triangle_face with
+  // threshold 4, is_cap_triangle_face with the cosine of 160 degrees).
+  const double capCos = std::cos(160.0 * sodt::kPi / 180.0);
+  r.needles = r.caps = 0;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    const sodt::Vec3 p[3] = {f.cP(0), f.cP(1), f.cP(2)};
+    double shortest = std::numeric_limits<double>::infinity(), longest = 0;
+    bool cap = false;
+    for (int j = 0; j < 3; ++j) {
+      const sodt::Vec3 u = p[(j + 1) % 3] - p[j], w = p[(j + 2) % 3] - p[j];
+      const double l = u.Norm();
+      shortest = std::min(shortest, l);
+      longest = std::max(longest, l);
+      const double uw = u.Norm() * w.Norm();
+      cap = cap || (uw > 0 && (u * w) / uw <= capCos);
+    }
+    if (longest >= 4 * shortest)
+      ++r.needles;
+    else if (cap)
+      ++r.caps;
+  }
 }
 
 /// Everything but the time; input and reference already loaded.
@@ -268,6 +304,36 @@ void measure(const MeshD& out, const MeshD& in, const Metrics& inMetrics, const 
     r.volumeChange = (v.volume - inMetrics.volume) / std::abs(inMetrics.volume);
   r.inverted = isInput ? 0 : sodt::countInvertedFaces(out, in);
   r.ok = true;
+}
+
+/// Runs sodt_cgal_remesh in mode m.filter on inPath, writing WORK/ID.off and
+/// its log WORK/ID.log; r.seconds gets the remesher's own time, r.error why
+/// it failed (empty: the output is there).
+void runExternal(const Method& m, const std::string& inPath, const std::string& work, double meanEdge,
+                 int iterations, Metrics& r) {
+  const std::string tool = cgalRemeshTool();
+  if (tool.empty()) {
+    r.error = "CGAL was not found when this build was configured (Debian: libcgal-dev)";
+    return;
+  }
+  const std::string out = work + "/" + m.id + ".off", log = work + "/" + m.id + ".log";
+  std::vector<std::string> argv = {tool, m.filter, inPath, out, "--feature-angle", "30"};
+  if (m.filter == "isotropic")
+    argv.insert(argv.end(), {"--target", floatText(meanEdge), "--iterations", std::to_string(iterations)});
+  std::remove(log.c_str());
+  double wall = 0;
+  const int status = proc::run(argv, {}, log, 3600, &wall);
+  if (status != 0 || !isFile(out)) {
+    r.error = "sodt_cgal_remesh exit status " + std::to_string(status) + " (log: " + log + ")";
+    return;
+  }
+  r.seconds = wall;
+  std::istringstream text(readFile(log));
+  std::string word;
+  double s = 0;
+  while (text >> word)
+    if (word == "seconds" && text >> s) r.seconds = s;
+  r.detail = "sodt_cgal_remesh " + m.filter + ", exit status 0";
 }
 
 std::string countersLine(const sodt::SodtStats& s) {
@@ -643,6 +709,17 @@ MeshReport compareMesh(const MeshJob& job, const Options& opt, const MeshLabServ
       sodt::SaveOptions so;
       so.verify = false;
       sodt::saveMesh(work + "/" + m.id + ".ply", out, so);
+    } else if (m.kind == Kind::External) {
+      runExternal(m, inCopy, work, meanEdge, opt.iterations, r);
+      if (r.error.empty()) {
+        MeshD out;
+        try {
+          sodt::loadMesh(work + "/" + m.id + ".off", out);
+          measure(out, input, rep.input, ref.get(), false, r);
+        } catch (const std::exception& e) {
+          r.error = e.what();
+        }
+      }
     } else {
       if (!ml) continue;  // MeshLab off or unavailable: no row (the report says why)
       if (m.kind == Kind::Plugin && !ml->hasPlugin()) {

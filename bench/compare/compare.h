@@ -22,6 +22,9 @@ enum class Kind {
   InProcess,  ///< sodt::SodtSmoother<sodt::MeshD> in this process (time: Apply alone)
   Plugin,     ///< the freshly built S-ODT plugin in meshlabserver (time: the whole server run)
   Builtin,    ///< a filter shipped with MeshLab 2020.09, in meshlabserver (time: the whole server run)
+  /// A CGAL 5.5 remesher in sodt_cgal_remesh, a child process (filter: its
+  /// mode; time: the remesher alone, as the tool reports it)
+  External,
 };
 
 /// One row of the comparison.
@@ -30,7 +33,7 @@ struct Method {
   std::string label;  ///< table text
   Kind kind = Kind::InProcess;
   sodt::Algorithm algorithm = sodt::Algorithm::Basic;  ///< InProcess and Plugin
-  std::string filter;  ///< MeshLab filter name (Builtin, Plugin)
+  std::string filter;  ///< MeshLab filter name (Builtin, Plugin), sodt_cgal_remesh mode (External)
   /// Builtin: moves vertices only, same connectivity (a smoother in the sense
   /// of the tests); false for edge flipping and remeshing.
   bool smoother = true;
@@ -89,6 +92,9 @@ struct Metrics {
   long long edgeFlips = -1;
   long long verticesAdded = -1, verticesRemoved = -1;
   long long belowRepairTarget = -1;
+  /// Faces that are needles (longest / shortest edge >= 4) and caps (an
+  /// angle >= 160 degrees), CGAL's definitions (-1: not measured).
+  long long needles = -1, caps = -1;
   double seconds = kNaN;    ///< see Kind
   std::string detail;       ///< one line (run counters, server status)
 };
@@ -239,6 +245,24 @@ struct RepairVerdict {
   bool beats() const { return comparable && largerMinAngle && noLargerHausdorff && fewerVertexChanges; }
 };
 RepairVerdict repairVerdict(const MeshReport& r);
+
+/// The local repair against one peer that changes the connectivity, on one
+/// mesh: Beats (a larger minimum angle at a Hausdorff distance to the input
+/// no larger), LargerDistance (a larger minimum angle, but farther from the
+/// input), PeerMovesFurther (the peer's minimum angle is no smaller, but it
+/// moves farther from the input) or Loses (the peer's minimum angle is no
+/// smaller at no larger a distance). NotRun when either row is missing.
+enum class PeerVerdict { NotRun, Beats, LargerDistance, PeerMovesFurther, Loses };
+PeerVerdict peerVerdict(const Row* repair, const Row* peer);
+
+/// The peers of the repair, in table order: MeshLab's isotropic remeshing at
+/// the mean edge (without and with its surface-distance check at the
+/// deviation bound) and CGAL 5.5's isotropic_remeshing and
+/// remove_almost_degenerate_faces.
+const std::vector<std::string>& repairPeers();
+
+/// The sodt_cgal_remesh this build made ("" when CGAL was not found).
+std::string cgalRemeshTool();
 
 /// The paper's Table 3 (min angle) and Table 4 (time) row of one model.
 struct PaperRow {

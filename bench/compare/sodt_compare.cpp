@@ -198,7 +198,8 @@ int main(int argc, char** argv) {
   const MeshLabServer* ml = nullptr;
   std::string mlLine = "not run (--no-meshlab)";
   bool anyMeshLabMethod = opt.methods.empty();
-  for (const std::string& id : opt.methods) anyMeshLabMethod = anyMeshLabMethod || findMethod(id)->kind != Kind::InProcess;
+  for (const std::string& id : opt.methods) anyMeshLabMethod =
+        anyMeshLabMethod || findMethod(id)->kind == Kind::Builtin || findMethod(id)->kind == Kind::Plugin;
   if (meshlab && anyMeshLabMethod) {
     std::string err;
     if (server.start(mlc, opt.workDir, err)) {

@@ -26,10 +26,12 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -364,6 +366,81 @@ void expectTwoStepInvertsSodtDoesNot(const std::string& mesh) {
   EXPECT_EQ(s->m.inverted, 0) << "S-ODT inverted faces on " << mesh;
 }
 
+TEST(ComparisonRepair, PeerVerdictNeedsALargerAngleAtNoLargerDistance) {
+  const Row repair = fakeRow("sodt_flips_repair", 26, 0.0015, 1002);
+  const Row peer = fakeRow("cgal_isotropic_edge", 20, 0.002, 990);
+  EXPECT_EQ(peerVerdict(&repair, &peer), PeerVerdict::Beats);
+  const Row equal = fakeRow("cgal_isotropic_edge", 20, 0.0015, 990);
+  EXPECT_EQ(peerVerdict(&repair, &equal), PeerVerdict::Beats) << "an equal distance is no larger";
+  const Row closer = fakeRow("cgal_isotropic_edge", 20, 0.001, 990);
+  EXPECT_EQ(peerVerdict(&repair, &closer), PeerVerdict::LargerDistance);
+  const Row further = fakeRow("cgal_isotropic_edge", 30, 0.05, 222);
+  EXPECT_EQ(peerVerdict(&repair, &further), PeerVerdict::PeerMovesFurther);
+  const Row better = fakeRow("cgal_isotropic_edge", 26, 0.0015, 990);
+  EXPECT_EQ(peerVerdict(&repair, &better), PeerVerdict::Loses) << "an equal angle is not larger";
+  Row failed = peer;
+  failed.m.ok = false;
+  EXPECT_EQ(peerVerdict(&repair, &failed), PeerVerdict::NotRun);
+  EXPECT_EQ(peerVerdict(&repair, nullptr), PeerVerdict::NotRun);
+  // The report's peer table says it, mesh by mesh.
+  MeshReport rep;
+  rep.job.name = "fake";
+  rep.input.ok = true;
+  rep.input.vertices = 1000;
+  Row rp = repair;
+  rp.m.needles = 2;
+  rp.m.caps = 1;
+  rep.rows = {rp, peer, further};
+  rep.rows[2].method = *findMethod("cgal_degenerate");
+  const std::string md = markdownReport({rep}, Options(), "sodt_compare ...", "test", "figures");
+  EXPECT_NE(md.find("| fake | 26.00 / 0.15 / 2 + 1 / 1002 | not run | n/a | not run | n/a | 20.00 / 0.2 / -1 + -1 / "
+                    "990 | **beats** | 30.00 / 5 / -1 + -1 / 222 | peer's min angle no smaller, but it moves farther |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("the local repair beats every peer on 0 of 1 meshes"), std::string::npos) << md;
+}
+
+/// CGAL's two remeshers run through sodt_cgal_remesh on a bundled
+/// marching-cubes mesh: remove_almost_degenerate_faces leaves fewer needles
+/// and caps than the input had, and both outputs are measured like any row.
+TEST(ComparisonRepair, CgalPeersRunOnABundledMesh) {
+  ASSERT_FALSE(cgalRemeshTool().empty()) << "CGAL was not found when the build was configured (libcgal-dev)";
+  TempDir dir;
+  const MeshReport rep = runInProcess(std::string(SODT_MESH_DIR) + "/blobs_mc.ply", sodt::Algorithm::Basic,
+                                      {"cgal_isotropic_edge", "cgal_degenerate"}, dir);
+  ASSERT_TRUE(rep.input.ok);
+  ASSERT_GT(rep.input.needles + rep.input.caps, 0) << "the input has no needle or cap to remove";
+  const Row* iso = rep.row("cgal_isotropic_edge");
+  const Row* deg = rep.row("cgal_degenerate");
+  ASSERT_TRUE(iso && deg);
+  ASSERT_TRUE(iso->m.ok) << iso->m.error;
+  ASSERT_TRUE(deg->m.ok) << deg->m.error;
+  EXPECT_LT(deg->m.needles + deg->m.caps, rep.input.needles + rep.input.caps);
+  EXPECT_LT(deg->m.vertices, rep.input.vertices) << "needles are removed by collapses";
+  EXPECT_NE(iso->m.vertices, rep.input.vertices);
+  for (const Row* r : {iso, deg}) {
+    EXPECT_TRUE(std::isfinite(r->m.hausInput) && r->m.hausInput < 0.05) << r->method.label;
+    EXPECT_TRUE(r->m.seconds >= 0 && r->m.seconds < 600) << r->method.label;
+  }
+}
+
+/// A cap (an angle of 170 degrees), a needle (edges 1 : 5) and a fair
+/// triangle, by CGAL's definitions.
+TEST(ComparisonRepair, NeedlesAndCapsByCgalsDefinitions) {
+  TempDir dir;
+  const std::string path = dir.path() + "/two.off";
+  const double h = std::tan(5 * std::acos(-1.0) / 180);
+  std::ostringstream off;
+  off.precision(17);
+  off << "OFF\n9 3 0\n0 0 0\n2 0 0\n1 " << h << " 0\n10 0 0\n15 0 0\n10 1 0\n20 0 0\n22 0 0\n21 1.7 0\n"
+      << "3 0 1 2\n3 3 4 5\n3 6 7 8\n";
+  writeFile(path, off.str());
+  const MeshReport rep = runInProcess(path, sodt::Algorithm::Basic, {"laplacian"}, dir);
+  ASSERT_TRUE(rep.input.ok);
+  EXPECT_EQ(rep.input.caps, 1);
+  EXPECT_EQ(rep.input.needles, 1);
+}
+
 TEST(Comparison, TwoStepInvertsOnBlobsMcSodtDoesNot) { expectTwoStepInvertsSodtDoesNot("blobs_mc.ply"); }
 TEST(Comparison, TwoStepInvertsOnSphereJitterSodtDoesNot) { expectTwoStepInvertsSodtDoesNot("sphere_jitter.ply"); }
 
@@ -424,7 +501,7 @@ TEST(Scripts, BuiltinScriptsListEveryParameterOfTheFilter) {
       }
     }
   }
-  EXPECT_EQ(checked, 8);
+  EXPECT_EQ(checked, 9);
 }
 
 TEST(Scripts, PluginScriptSetsIterationsOnly) {
