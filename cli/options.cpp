@@ -398,7 +398,8 @@ CommandLine::CommandLine() : app_(kMainHelp, "sodt") {
   statsCmd_->option_defaults()->group(group);
   statsCmd_->add_option("--reference", stats.reference,
                         "also hausdorff_rel, hausdorff_edges_rel (with points along every edge too) and "
-                        "mean_distance_rel (sampled surface distances relative to REF's bounding-box diagonal) and inverted_faces (faces turned by more than 90 degrees "
+                        "mean_distance_rel (sampled surface distances relative to REF's bounding-box diagonal) "
+                        "and inverted_faces (faces turned by more than 90 degrees "
                         "against REF: face by face when REF has the same vertices and faces, else each "
                         "face against the face of REF nearest its centroid)")
       ->type_name("REF");
