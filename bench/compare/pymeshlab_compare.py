@@ -97,6 +97,12 @@ def builtin_methods(iterations=ITERATIONS):
                "meshing_isotropic_explicit_remeshing", {}, False,
                mesh_params=lambda pm, ms: {
                    "targetlen": pm.PureValue(ms.get_geometric_measures()["avg_edge_length"])}),
+        # Each local operation kept within S-ODT's deviation bound.
+        Method("isotropic_mean_edge_dist", "Isotropic remeshing (target = mean edge, surface distance 0.1%)",
+               "meshing_isotropic_explicit_remeshing", {"checksurfdist": True}, False,
+               mesh_params=lambda pm, ms: {
+                   "targetlen": pm.PureValue(ms.get_geometric_measures()["avg_edge_length"]),
+                   "maxsurfdist": pm.PureValue(0.001 * ms.current_mesh().bounding_box().diagonal())}),
     ]
 
 

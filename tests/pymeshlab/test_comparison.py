@@ -33,7 +33,7 @@ def test_sodt_beats_every_vertex_moving_builtin_at_no_larger_distance(pm, tmp_pa
     assert not [r.method.label for r in rows if r.error]
     assert set(by_key) == {"sodt", "sodt_flips", "sodt_flips_repair", "laplacian", "hc_laplacian", "taubin",
                            "two_steps", "surface_preserving", "planar_flip", "isotropic",
-                           "isotropic_mean_edge"}
+                           "isotropic_mean_edge", "isotropic_mean_edge_dist"}
     # The repair row: its vertex count is what the filter reports it added and
     # removed, and it does not lower the min angle of flips alone.
     flips, repair = by_key["sodt_flips"], by_key["sodt_flips_repair"]
