@@ -65,6 +65,27 @@ constexpr std::size_t kRepairMaxCoverStar = 256;
 /// ... in at most this many balls along the face's longest edge.
 constexpr double kRepairInputBalls = 16;
 
+/// The repair works on the worst triangles first: a round tries only the
+/// faces below its tide, the smallest angle of the mesh times
+/// kRepairTideFactor or plus kRepairTideStepDeg, whichever is larger (at
+/// most the target), so that a budget goes to the worst triangles before
+/// any other. When a round changes nothing, or kRepairTideStall rounds in a
+/// row do not raise the smallest angle (its triangle is pinned), the next
+/// tide starts kRepairTideRiseDeg above the last, until it reaches the
+/// target. Measured with --flips --repair and the default budget: hinge
+/// ends at 10.1 degrees (3.3 trying every face below the target each round;
+/// a step of 2 gave 9.9, 4 gave 5.1); on the 62 meshes of the corpus the
+/// median smallest angle rose from 3.4 to 5.0 degrees and the median vertex
+/// growth fell from 13% to 2%. Rising only when a round changes nothing
+/// (no stall rule) left the same medians but a repair up to 137 times as
+/// long as the sweeps, against 51.
+constexpr double kRepairTideFactor = 1.2;
+constexpr double kRepairTideStepDeg = 1.0;
+constexpr double kRepairTideRiseDeg = 5.0;
+constexpr int kRepairTideStall = 2;
+/// The rounds on every face below the target, before any tide.
+constexpr int kRepairPlainRounds = 30;
+
 /// What the repair may do.
 struct RepairSettings {
   double targetRad = 25 * kPi / 180;   ///< smallest angle to reach
@@ -75,7 +96,7 @@ struct RepairSettings {
   /// from the input face under it (faceTurnCos2; 0: 90 degrees, the sign
   /// test alone).
   double maxTurnCos2 = 0;
-  int maxRounds = 30;
+  int maxRounds = 100;  ///< of the rounds under a tide
   long long maxChanges = 0;  ///< vertices added plus removed, at most
 };
 
@@ -242,6 +263,7 @@ class LocalRepair {
     for (auto it = j.stars.rbegin(); it != j.stars.rend(); ++it) setVf(it->first, it->second);
   }
   Verdict tryFlip(int a, int b);
+  Verdict tryFlipUnderCap(int a, int b);
   Verdict tryCollapse(int a, int b);
   Verdict trySplit(int a, int b, double at = 0.5);
   Verdict trySplitBorder(int a, int b);
@@ -264,6 +286,7 @@ class LocalRepair {
   void save(Snapshot& s) const;
   void restore(const Snapshot& s);
   bool round(std::vector<RepairReason>& why, bool& budgetOut);
+  bool rounds(bool tide, int maxRounds, Snapshot& best, std::vector<RepairReason>& why);
 
   std::vector<Vec3>& pos_;
   FaceList& faces_;
@@ -279,6 +302,9 @@ class LocalRepair {
   std::vector<int> touched_;
   RepairResult r_;
   Journal* journal_ = nullptr;  ///< set while an insertion is tried
+  bool useTide_ = false;        ///< the rounds work below a tide (else below the target)
+  double tideFloor_ = 0;        ///< the next round's tide is at least this (radians)
+  double tide_ = 0;             ///< the last round's tide
 };
 
 inline int LocalRepair::edgeFaces(int a, int b, int out[2]) const {
@@ -530,6 +556,61 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   removeFromVf(b, f1);
   addToVf(c, f2);
   addToVf(d, f1);
+  ++r_.flips;
+  touched_.insert(touched_.end(), {a, b, c, d});
+  return Done;
+}
+
+/// A cap (a, b, c) whose long edge a-b no flip may take (a feature edge,
+/// or one the faces across it meet at more than the flip limit), with its
+/// apex c next to it: the filler a CAD export leaves between a polyline
+/// a-c-b of one face and the straight edge a-b of the face (b, a, d) across
+/// it. Edge a-b becomes c-d, faces (a, d, c) and (d, b, c): the line runs
+/// a-c-b and the cap is gone, without a new vertex. The new faces must keep
+/// within the flip limit of (b, a, d) (the cap's own normal says nothing),
+/// within both bounds and the face-turn bound, fold onto no neighbour, and
+/// their smallest angle must exceed the pair's. a-c and c-b are features
+/// when a-b was one or their faces now meet at more than the feature angle.
+inline LocalRepair::Verdict LocalRepair::tryFlipUnderCap(int a, int b) {
+  int f1, f2;
+  if (!interiorEdge(a, b, f1, f2)) return Topology;
+  const int c = third(f1, a, b), d = third(f2, a, b);
+  if (c < 0 || d < 0 || c == d || hasEdge(c, d) || role_[c] == Role::Fixed) return Topology;
+  const Vec3 &pa = pos_[a], &pb = pos_[b], &pc = pos_[c], &pd = pos_[d];
+  const Vec3 n2 = doubleAreaVector(pb, pa, pd);
+  const Vec3 m1 = doubleAreaVector(pa, pd, pc), m2 = doubleAreaVector(pd, pb, pc);
+  for (const Vec3& m : {m1, m2})
+    if (!(m * n2 > std::cos(s_.flipMaxRad) * m.Norm() * n2.Norm())) return NoGain;
+  const double before = std::min(triangleMinAngle(pa, pb, pc), triangleMinAngle(pb, pa, pd));
+  const double after = std::min(triangleMinAngle(pa, pd, pc), triangleMinAngle(pd, pb, pc));
+  if (!(after > before + 1e-9)) return NoGain;
+  const std::vector<std::array<Vec3, 3>> made = {{pa, pd, pc}, {pd, pb, pc}};
+  if (atHugeStar({f1, f2}) || foldsNeighbour(f1, made) || foldsNeighbour(f2, made) || !nearInput(made) ||
+      !covered((pa + pb) * 0.5, made) || !keepsTurn(made) || !keepsInputCovered({f1, f2}, made))
+    return OverBound;
+  keep(f1, {a, b, c, d});
+  keep(f2, {});
+  faces_.tri[f1] = {a, d, c};
+  faces_.tri[f2] = {d, b, c};
+  removeFromVf(a, f2);
+  removeFromVf(b, f1);
+  addToVf(c, f2);
+  addToVf(d, f1);
+  const bool wasFeature = feature_.erase(key(a, b)) > 0;
+  const double cosFeature = std::cos(s_.featureRad);
+  int lines = 0;
+  for (int u : {a, b}) {
+    int h1, h2;
+    bool feat = wasFeature || isFeature(u, c) || !interiorEdge(u, c, h1, h2);
+    if (!feat) {
+      const auto &t1 = faces_.tri[h1], &t2 = faces_.tri[h2];
+      const Vec3 q1 = doubleAreaVector(pos_[t1[0]], pos_[t1[1]], pos_[t1[2]]);
+      const Vec3 q2 = doubleAreaVector(pos_[t2[0]], pos_[t2[1]], pos_[t2[2]]);
+      feat = !(q1 * q2 >= cosFeature * q1.Norm() * q2.Norm());
+    }
+    if (feat) feature_.insert(key(u, c)), ++lines;
+  }
+  if (role_[c] == Role::Free && lines > 0) role_[c] = lines == 2 ? Role::Crease : Role::Fixed;
   ++r_.flips;
   touched_.insert(touched_.end(), {a, b, c, d});
   return Done;
@@ -982,6 +1063,13 @@ inline bool LocalRepair::fixFace(int f, RepairReason& why) {
     ends(e[k], x, y);
     if (note(tryFlip(x, y))) return true;
   }
+  // A cap whose long edge no flip may take: the filler under a polyline
+  // (measured on hinge: its last caps, 170 degrees at an apex 0.05 from a
+  // feature edge, held its smallest angle at 5 degrees).
+  if (cap) {
+    ends(e[2], x, y);  // f runs x -> y
+    if (note(tryFlipUnderCap(x, y))) return true;
+  }
   // A sliver that no flip fixes gets a point inside (tryInsert) before
   // its long edge is split: measured on slivers spanning flat strips
   // between borders, the insertion first reached 25-32 degrees where the
@@ -1133,6 +1221,7 @@ struct LocalRepair::Snapshot {
   RepairResult counts;
   double minAngle = 0;
   std::size_t below = 0;
+  std::vector<RepairReason> why;
 };
 
 inline void LocalRepair::score(double& minAngle, std::size_t& below) const {
@@ -1157,13 +1246,19 @@ inline void LocalRepair::restore(const Snapshot& s) {
   indexLargeStars();
 }
 
-/// One round: an attempt on every face below the target, worst first, then
-/// flips and S-ODT relaxation around what changed. False when nothing
-/// changed; budgetOut is set when the budget stopped the round.
+/// One round: an attempt on every face below the tide (see
+/// kRepairTideFactor), worst first, then flips and S-ODT relaxation around
+/// what changed. False when nothing changed; budgetOut is set when the
+/// budget stopped the round.
 inline bool LocalRepair::round(std::vector<RepairReason>& why, bool& budgetOut) {
   std::vector<std::pair<double, int>> bad;
+  double worst = kPi;
   for (std::size_t f = 0; f < faces_.tri.size(); ++f)
-    if (faces_.live[f] && faceMinAngle(int(f)) < s_.targetRad) bad.push_back({faceMinAngle(int(f)), int(f)});
+    if (faces_.live[f]) worst = std::min(worst, faceMinAngle(int(f)));
+  const double step = std::max(worst * kRepairTideFactor, worst + kRepairTideStepDeg * kPi / 180);
+  tide_ = useTide_ ? std::min(s_.targetRad, std::max(tideFloor_, step)) : s_.targetRad;
+  for (std::size_t f = 0; f < faces_.tri.size(); ++f)
+    if (faces_.live[f] && faceMinAngle(int(f)) < tide_) bad.push_back({faceMinAngle(int(f)), int(f)});
   std::sort(bad.begin(), bad.end());
   touched_.clear();
   bool progress = false;
@@ -1199,17 +1294,23 @@ inline bool LocalRepair::round(std::vector<RepairReason>& why, bool& budgetOut) 
   return progress;
 }
 
-/// Rounds until no face is below the target, a round changes nothing, or
-/// the rounds or the budget run out; returns the best state seen (the
-/// largest smallest angle, then the fewest faces below the target), the
-/// swept mesh included, so the repair never leaves a worse mesh.
-inline RepairResult LocalRepair::run() {
-  std::vector<RepairReason> why(faces_.tri.size(), RepairReason::Pinned);
+/// Rounds until no face is below the target, a round whose tide is the
+/// target changes nothing, or the rounds or the budget run out (a round
+/// that changes nothing or stalls below a lower tide raises the next
+/// one's); best receives the best state seen (the largest smallest angle,
+/// then the fewest faces below the target) and why the reasons of its
+/// faces. Returns whether the budget or the rounds ran out.
+inline bool LocalRepair::rounds(bool tide, int maxRounds, Snapshot& best, std::vector<RepairReason>& why) {
+  why.assign(faces_.tri.size(), RepairReason::Pinned);
+  useTide_ = tide;
+  tideFloor_ = 0;
   bool budgetOut = false;
-  Snapshot best;
   score(best.minAngle, best.below);
   save(best);
-  for (int k = 0; k < s_.maxRounds && best.below > 0; ++k) {
+  best.why = why;
+  double last = best.minAngle;
+  int stall = 0;
+  for (int k = 0; k < maxRounds && best.below > 0; ++k) {
     const bool progress = round(why, budgetOut);
     double a;
     std::size_t n;
@@ -1217,10 +1318,44 @@ inline RepairResult LocalRepair::run() {
     if (a > best.minAngle || (a == best.minAngle && n < best.below)) {
       save(best);
       best.minAngle = a, best.below = n;
+      best.why = why;
     }
-    if (!progress || budgetOut) break;
+    if (budgetOut) break;
+    if (!progress && tide_ >= s_.targetRad) break;
+    stall = a > last ? 0 : stall + 1;
+    last = a;
+    if (!progress || stall >= kRepairTideStall) {
+      tideFloor_ = tide_ + kRepairTideRiseDeg * kPi / 180;
+      stall = 0;
+    }
+    if (k + 1 == maxRounds) budgetOut = true;
+  }
+  return budgetOut;
+}
+
+/// Rounds on every face below the target (kRepairPlainRounds at most);
+/// when the budget or the rounds run out first, rounds under a rising tide
+/// (see kRepairTideFactor) from the swept mesh again, with the whole
+/// budget. The better of the two (the largest smallest angle, then the
+/// fewest faces below the target) is returned, the swept mesh included,
+/// so the repair never leaves a worse mesh.
+inline RepairResult LocalRepair::run() {
+  Snapshot swept, best;
+  save(swept);
+  std::vector<RepairReason> why;
+  bool budgetOut = rounds(false, kRepairPlainRounds, best, why);
+  if (budgetOut && best.below > 0) {
+    restore(swept);
+    Snapshot tide;
+    std::vector<RepairReason> tideWhy;
+    const bool tideOut = rounds(true, s_.maxRounds, tide, tideWhy);
+    if (tide.minAngle > best.minAngle || (tide.minAngle == best.minAngle && tide.below < best.below)) {
+      best = std::move(tide);
+      budgetOut = tideOut;
+    }
   }
   restore(best);
+  why = best.why;
   why.resize(faces_.tri.size(), RepairReason::Pinned);
   for (std::size_t f = 0; f < faces_.tri.size(); ++f) {
     if (!faces_.live[f]) continue;
@@ -1362,7 +1497,7 @@ void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const R
   s.flipMaxRad = std::max(p.flipMaxDihedralDeg, 1.0) * kPi / 180;
   s.bound = input.bound;
   s.maxTurnCos2 = input.maxTurnCos2;
-  s.maxChanges = static_cast<long long>(nv0);
+  s.maxChanges = std::llround(static_cast<double>(nv0) * p.repairBudgetPct / 100.0);
   LocalRepair repair(w.pos, w.faces, w.deleted, input.grid.get(), s);
   const bool classified = p.algorithm == Algorithm::Feature || p.algorithm == Algorithm::Denoise;
   repair.setUp(movable, classified ? &cls.cls : nullptr, classified ? &cls.creaseDir : nullptr);
