@@ -263,6 +263,8 @@ class LocalRepair {
   }
   Verdict tryFlip(int a, int b);
   Verdict tryFlipUnderCap(int a, int b);
+  /// Edge a-b of faces f1 (a, b, c) and f2 (b, a, d) becomes c-d.
+  void applyFlip(int f1, int f2, int a, int b, int c, int d);
   Verdict tryCollapse(int a, int b);
   Verdict trySplit(int a, int b, double at = 0.5);
   Verdict trySplitBorder(int a, int b);
@@ -547,6 +549,11 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   if (atHugeStar({f1, f2}) || !nearInput(made) || !covered((pa + pb) * 0.5, made) || !keepsTurn(made) ||
       !keepsInputCovered({f1, f2}, made))
     return OverBound;
+  applyFlip(f1, f2, a, b, c, d);
+  return Done;
+}
+
+inline void LocalRepair::applyFlip(int f1, int f2, int a, int b, int c, int d) {
   keep(f1, {a, b, c, d});
   keep(f2, {});
   faces_.tri[f1] = {a, d, c};
@@ -557,7 +564,6 @@ inline LocalRepair::Verdict LocalRepair::tryFlip(int a, int b) {
   addToVf(d, f1);
   ++r_.flips;
   touched_.insert(touched_.end(), {a, b, c, d});
-  return Done;
 }
 
 /// A cap (a, b, c) whose long edge a-b no flip may take (a feature edge,
@@ -587,14 +593,7 @@ inline LocalRepair::Verdict LocalRepair::tryFlipUnderCap(int a, int b) {
   if (atHugeStar({f1, f2}) || foldsNeighbour(f1, made) || foldsNeighbour(f2, made) || !nearInput(made) ||
       !covered((pa + pb) * 0.5, made) || !keepsTurn(made) || !keepsInputCovered({f1, f2}, made))
     return OverBound;
-  keep(f1, {a, b, c, d});
-  keep(f2, {});
-  faces_.tri[f1] = {a, d, c};
-  faces_.tri[f2] = {d, b, c};
-  removeFromVf(a, f2);
-  removeFromVf(b, f1);
-  addToVf(c, f2);
-  addToVf(d, f1);
+  applyFlip(f1, f2, a, b, c, d);
   const bool wasFeature = feature_.erase(key(a, b)) > 0;
   const double cosFeature = std::cos(s_.featureRad);
   int lines = 0;
@@ -610,8 +609,6 @@ inline LocalRepair::Verdict LocalRepair::tryFlipUnderCap(int a, int b) {
     if (feat) feature_.insert(key(u, c)), ++lines;
   }
   if (role_[c] == Role::Free && lines > 0) role_[c] = lines == 2 ? Role::Crease : Role::Fixed;
-  ++r_.flips;
-  touched_.insert(touched_.end(), {a, b, c, d});
   return Done;
 }
 
