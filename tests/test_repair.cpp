@@ -384,6 +384,44 @@ TEST(Repair, StopsAtItsBudgetWithTheSmallestAngleRaised) {
   EXPECT_GT(minAngleDeg(m), 2 * minAngleDeg(swept));
 }
 
+TEST(Repair, HandsChurningRoundsToTheTideFromTheBestState) {
+  // Small spheres jittered along and across the surface: on some, every
+  // round on all faces below the target leaves a new face below the best
+  // smallest angle so far, and 30 such rounds give back little more than
+  // the sweeps. After six rounds without a better state the tide goes on
+  // from the best one. Measured over these 30 spheres (default run, flips
+  // and repair): a mean smallest angle of 11.1 degrees with 30 plain
+  // rounds, 11.6 with the hand-over; 8.7 after the sweeps alone (4 of
+  // them gained 2 to 5.5 degrees, one lost 0.2).
+  double sum = 0, swept = 0;
+  const int seeds = 30;
+  const auto make = [](sodt::MeshD& m, unsigned seed) {
+    sodt_test::makeSphere(m, 2);
+    sodt_test::jitterOnSphere(m, 0.4, seed);
+    std::mt19937 g(seed + 1000);
+    double mean = 0;
+    for (const auto& f : m.face) mean += vcg::Distance(f.cP(0), f.cP(1));
+    mean /= double(m.face.size());
+    for (auto& v : m.vert) v.P() *= 1 + 0.02 * mean * sodt_test::uniform(g, -1, 1);
+  };
+  for (unsigned seed = 1; seed <= unsigned(seeds); ++seed) {
+    sodt::MeshD m, sweptOnly;
+    make(m, seed);
+    make(sweptOnly, seed);
+    sodt::SodtParams p;
+    p.flips = true;
+    p.threads = 1;
+    sodt::SodtSmoother<sodt::MeshD>::Apply(sweptOnly, p);
+    p.repair = true;
+    sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+    const double a = minAngleDeg(m), b = minAngleDeg(sweptOnly);
+    EXPECT_GE(a, b - 1e-9) << "seed " << seed;  // never worse than the sweeps
+    sum += a, swept += b;
+  }
+  EXPECT_LT(swept / seeds, 9.5);
+  EXPECT_GT(sum / seeds, 11.4);
+}
+
 TEST(Repair, SplitsTheBorderEdgeAnInsertedPointWouldLieBeyond) {
   // A cap on the border A-B, its apex C just above the border's midpoint:
   // its circumcentre (and off-centre) lie below A-B, outside the mesh, so
