@@ -1305,11 +1305,13 @@ inline bool LocalRepair::round(std::vector<RepairReason>& why, bool& budgetOut) 
 }
 
 /// Rounds until no face is below the target, a round whose tide is the
-/// target changes nothing, or the rounds or the budget run out (a round
-/// that changes nothing or stalls below a lower tide raises the next
-/// one's); best receives the best state seen (the largest smallest angle,
-/// then the fewest faces below the target) and why the reasons of its
-/// faces. Returns whether the budget or the rounds ran out.
+/// target changes nothing, patience rounds in a row (0: no limit) find no
+/// better state, or the rounds or the budget run out (a round that changes
+/// nothing or stalls below a lower tide raises the next one's); best
+/// receives the best state seen (the largest smallest angle, then the
+/// fewest faces below the target) and why the reasons of its faces.
+/// Returns which of these ended them: Patience, Out (the budget or the
+/// rounds), else Done.
 inline LocalRepair::Stop LocalRepair::rounds(bool tide, int maxRounds, int patience, Snapshot& best,
                                              std::vector<RepairReason>& why) {
   why.assign(faces_.tri.size(), RepairReason::Pinned);
