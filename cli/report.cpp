@@ -403,6 +403,11 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   writeDistance(j, dist);
   j["inverted_faces"] = inverted;
   j["max_face_turn_deg"] = number(st.maxFaceTurnDeg);
+  Json unfold;
+  unfold["found"] = st.facingAwayFound;
+  unfold["moves"] = st.unfoldMoves;
+  unfold["left"] = st.facingAwayLeft;
+  j["facing_away_mended"] = unfold;
   if (o.params.algorithm == sodt::Algorithm::Filtered) {
     Json f;
     f["kind"] = sodt::toString(st.filter.kind);

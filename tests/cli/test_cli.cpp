@@ -766,7 +766,7 @@ TEST_F(CliTest, SmoothImprovesMinAngleAndWritesReport) {
         "cancelled", "min_angle_before", "min_angle_after", "max_angle_before", "max_angle_after", "flips",
         "flips_enabled", "flip_max_dihedral", "keep_best", "tolerance", "returned_sweep", "stopped_early",
         "threads", "skipped_visits", "deviation_queries", "deviation_reused", "lane_visits", "max_face_turn",
-        "max_face_turn_deg", "protected_angles", "min_angle_unprotected"})
+        "max_face_turn_deg", "protected_angles", "min_angle_unprotected", "facing_away_mended"})
     EXPECT_NE(json.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
   EXPECT_EQ(jsonNumber(json, "vertices"), mesh_.vertices());
   EXPECT_EQ(jsonNumber(json, "faces"), mesh_.faces());
@@ -776,6 +776,7 @@ TEST_F(CliTest, SmoothImprovesMinAngleAndWritesReport) {
   EXPECT_GE(lo1, lo0);
   EXPECT_GT(jsonNumber(json, "frac_below_30"), 0.0);  // the "before" object comes first
   EXPECT_EQ(jsonNumber(json, "inverted_faces"), 0);
+  EXPECT_EQ(jsonNumber(json, "left"), 0) << "no face left facing away";
   EXPECT_LE(jsonNumber(json, "max_face_turn_deg"), jsonNumber(json, "max_face_turn"));
   EXPECT_LT(jsonNumber(json, "hausdorff_rel"), 0.1);
   EXPECT_TRUE(std::isfinite(jsonNumber(json, "volume_rel_change"))) << "the sphere is closed";

@@ -290,6 +290,12 @@ struct SodtStats {
   /// Algorithm::Filtered: the sweeps' deviation bound against the denoised
   /// surface, relative to the diagonal (FilterStage::sweepBound).
   double filteredSweepBoundRel = 0;
+  /// The last step of a run with the face-turn bound (facing.h): faces
+  /// that faced away from the input under them before it, vertices it put
+  /// back towards their input positions, and faces still facing away.
+  int facingAwayFound = 0;
+  int unfoldMoves = 0;
+  int facingAwayLeft = 0;
 };
 
 inline const char* toString(Guard g) {

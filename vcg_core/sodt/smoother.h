@@ -102,6 +102,7 @@ struct SodtSmoother {
     r.outCls = r.cls;
     r.moved = r.active;
     for (auto& s : stages) s->finish(r);
+    for (auto& s : stages) s->last(r);
     // The mesh is written only here, positions and faces together.
     std::vector<int> moving = r.moved;
     moving.insert(moving.end(), r.written.begin(), r.written.end());

@@ -7,12 +7,14 @@
 //   afterSweep     after each sweep (flips, keep-best); true stops the sweeps
 //   afterSweeps    restores the returned state (keep-best, Filtered's restore)
 //   finish         changes the returned mesh (repair) and counts
+//   last           after every stage's finish: checks of the returned mesh
 // A new feature adds a stage to makeStages(), not lines to SodtSmoother::Apply.
 #pragma once
 
 #include "denoise/filter_select.h"
 #include "denoise/surface_restore.h"
 #include "guards/cover.h"
+#include "guards/facing.h"
 #include "guards/guarded_move.h"
 #include "guards/sweep_quality.h"
 #include "mesh/working_mesh.h"
@@ -80,6 +82,7 @@ struct Stage {
   virtual bool afterSweep(RunState<MeshType>&) { return false; }
   virtual void afterSweeps(RunState<MeshType>&) {}
   virtual void finish(RunState<MeshType>&) {}
+  virtual void last(RunState<MeshType>&) {}
 };
 
 /// The set-up every run has, between beforeClasses and prepare: length
@@ -300,9 +303,39 @@ struct RepairStage : Stage<MeshType> {
 };
 
 /// The stages of a run with parameters p (the caller's), in hook order.
+/// With a guard: no returned face faces away from the input under it
+/// (facing.h), the surface the sweeps keep to (Filtered's denoised one
+/// when its filter ran), under the sweeps' face-turn and deviation bounds.
+/// Takes that surface before the first sweep, mends after every stage has
+/// finished.
+template <class MeshType>
+struct UnfoldStage : Stage<MeshType> {
+  static bool applies(const SodtParams& p) { return p.guard != Guard::None && p.algorithm != Algorithm::Denoise; }
+  void prepare(RunState<MeshType>& r) override {
+    input_ = std::make_unique<FacingInput>(r.w.pos, r.w.faces);
+    pos_ = r.w.pos;
+    if (DeviationInput::applies(r.p)) bound_ = r.p.maxDeviationRel * surfaceDiagonal(r.w.pos, r.w.topo);
+  }
+  void last(RunState<MeshType>& r) override {
+    std::vector<int> moved;
+    const UnfoldResult u =
+        unfoldFacingAway(r.w.pos, r.w.faces, r.w.deleted, pos_, *input_, r.turnCos2, bound_, r.threads, &moved);
+    r.stats.facingAwayFound = u.found;
+    r.stats.unfoldMoves = u.moves;
+    r.stats.facingAwayLeft = u.left;
+    r.written.insert(r.written.end(), moved.begin(), moved.end());
+  }
+
+ private:
+  std::unique_ptr<FacingInput> input_;
+  std::vector<Vec3> pos_;  ///< the input positions
+  double bound_ = 0;       ///< the deviation bound (0: none)
+};
+
 template <class MeshType>
 std::vector<std::unique_ptr<Stage<MeshType>>> makeStages(const SodtParams& p) {
   std::vector<std::unique_ptr<Stage<MeshType>>> s;
+  if (UnfoldStage<MeshType>::applies(p)) s.push_back(std::make_unique<UnfoldStage<MeshType>>());
   if (p.slideBoundary) s.push_back(std::make_unique<SlideStage<MeshType>>());
   s.push_back(std::make_unique<CoverStage<MeshType>>());
   if (p.flips) s.push_back(std::make_unique<FlipStage<MeshType>>());

@@ -3,6 +3,7 @@
 // angles, enclosed volume, Hausdorff distance, faces turned against a reference.
 #pragma once
 
+#include <sodt/guards/facing.h>
 #include <sodt/guards/input_grid.h>
 #include <sodt/maths/box_tree.h>
 #include <sodt/maths/geometry.h>
@@ -1103,17 +1104,6 @@ double hausdorffRel(const MeshA& a, const MeshB& b) {
 
 namespace detail {
 
-/// For each live face of ref, in order, the second orientation a face over
-/// it may take (foldedSliverSurfaceNormals): for a sliver folded against
-/// the surface at its corners, that surface's normal; else zero.
-inline std::vector<Vec3> liveFoldedSliverNormals(const std::vector<Vec3>& pos, const FaceList& faces) {
-  const std::vector<Vec3> all = foldedSliverSurfaceNormals(faces, pos);
-  std::vector<Vec3> live;
-  for (std::size_t f = 0; f < faces.tri.size(); ++f)
-    if (faces.live[f]) live.push_back(all[f]);
-  return live;
-}
-
 template <class MeshType>
 std::vector<Vec3> positions(const MeshType& m) {
   std::vector<Vec3> pos(m.vert.size());
@@ -1140,11 +1130,7 @@ std::vector<Vec3> positions(const MeshType& m) {
 /// result for any number.
 template <class MeshType, class RefType>
 long long countFacesFacingAway(const MeshType& m, const RefType& ref, int threads = 1, double* maxTurnDeg = nullptr) {
-  std::vector<Vec3> pos = detail::positions(ref);
-  const FaceList refFaces = makeFaceList(ref);
-  const InputGrid under(pos, refFaces);
-  const std::vector<Vec3> folded = detail::liveFoldedSliverNormals(pos, refFaces);
-  std::vector<Vec3>().swap(pos);
+  const FacingInput input(detail::positions(ref), makeFaceList(ref));
   long long n = 0;
   double worst = 0;
   const long long nf = static_cast<long long>(m.face.size());
@@ -1154,22 +1140,11 @@ long long countFacesFacingAway(const MeshType& m, const RefType& ref, int thread
   for (long long i = 0; i < nf; ++i) {
     const auto& f = m.face[static_cast<std::size_t>(i)];
     if (f.IsD()) continue;
-    const Vec3 p[3] = {detail::toVec3<MeshType>(f.cP(0)), detail::toVec3<MeshType>(f.cP(1)),
-                       detail::toVec3<MeshType>(f.cP(2))};
-    const Vec3 area = doubleAreaVector(p[0], p[1], p[2]);
-    if (area.SquaredNorm() == 0) continue;
-    const InputGrid::Under u = under.under((p[0] + p[1] + p[2]) / 3.0, area, std::numeric_limits<double>::infinity(),
-                                           std::numeric_limits<long>::max());
-    if (!u.found) continue;
-    double turn = angleBetween(area, u.normal);
-    bool away = area * u.normal < 0;
-    const Vec3& other = folded[static_cast<std::size_t>(u.face)];
-    if (other.SquaredNorm() > 0) {
-      turn = std::min(turn, angleBetween(area, other));
-      away = away && area * other < 0;
-    }
-    n += away;
-    worst = std::max(worst, turn);
+    const FacingInput::Verdict v = input.test(detail::toVec3<MeshType>(f.cP(0)), detail::toVec3<MeshType>(f.cP(1)),
+                                              detail::toVec3<MeshType>(f.cP(2)));
+    if (!v.measured) continue;
+    n += v.away;
+    worst = std::max(worst, v.turnRad);
   }
   if (maxTurnDeg) *maxTurnDeg = worst * kRadToDeg;
   return n;
