@@ -11,7 +11,8 @@
 // sliver folded against the surface in the input can open up on its own
 // side. Both read as faces facing away from the input under them, which
 // is what a user measures. The pass below finds them and puts vertices
-// back towards where the input had them until none is left.
+// back towards where the input had them, as far as that breaks nothing
+// else.
 #pragma once
 
 #include "../maths/geometry.h"
@@ -39,8 +40,8 @@ class FacingInput {
   }
 
   /// How a face (a, b, c) lies against the input face under its centroid
-  /// (the nearest one; of those equally near up to rounding, the best
-  /// aligned: InputGrid::under, with no limit on distance or effort).
+  /// (the nearest one at any distance; of those equally near up to
+  /// rounding, the best aligned: InputGrid::under).
   struct Verdict {
     bool measured = false;  ///< false: the face has no area, or no input face has an orientation
     bool away = false;      ///< its normal is more than 90 degrees from that face's
@@ -50,9 +51,9 @@ class FacingInput {
   /// The facing test. Over a folded sliver of the input, a face counts as
   /// facing away only when it also faces away from the surface there, and
   /// its turn is the nearer of the two; either side is a valid
-  /// orientation there, and the sweeps may unfold such a sliver. Safe to
+  /// orientation there, and the sweeps may unfold such a sliver. maxNodes:
+  /// as InputGrid::under (not measured when the query gives up). Safe to
   /// call concurrently.
-  /// maxNodes: as InputGrid::under (not measured when the query gives up).
   Verdict test(const Vec3& a, const Vec3& b, const Vec3& c,
                long maxNodes = std::numeric_limits<long>::max()) const {
     Verdict v;
@@ -71,7 +72,8 @@ class FacingInput {
     return v;
   }
 
-  /// True when some input point lies within r of q (InputGrid::within).
+  /// True when some input point lies within r of q (InputGrid::within;
+  /// not safe to call concurrently).
   bool within(const Vec3& q, double r) const { return grid_.within(q, r); }
 
  private:
