@@ -406,6 +406,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   Json unfold;
   unfold["found"] = st.facingAwayFound;
   unfold["moves"] = st.unfoldMoves;
+  unfold["flips"] = st.unfoldFlips;
   unfold["left"] = st.facingAwayLeft;
   j["facing_away_mended"] = unfold;
   if (o.params.algorithm == sodt::Algorithm::Filtered) {

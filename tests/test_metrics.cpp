@@ -188,11 +188,12 @@ TEST(Metrics, InvertedFacesAgainstReference) {
 
 namespace {
 
-/// A flat patch (z = 0, facing +z) with a sliver along the edge A-B
-/// (smallest angle 0.57 degrees) folded against it: the sliver A, E, B
-/// faces -z while every face around faces +z. Vertices A, B, C, D, E.
-void makeFoldedSliverPatch(Mesh& m) {
-  const double p[5][2] = {{0, 0}, {2, 0}, {1, 1}, {1, -1}, {1, 0.01}};
+/// A flat patch (z = 0, facing +z) with a face along the edge A-B
+/// folded against it: the face A, E, B faces -z while every face around
+/// faces +z. Vertices A, B, C, D, E; E at (1, ey): a sliver of 0.57
+/// degrees by default.
+void makeFoldedSliverPatch(Mesh& m, double ey = 0.01) {
+  const double p[5][2] = {{0, 0}, {2, 0}, {1, 1}, {1, -1}, {1, ey}};
   auto vi = vcg::tri::Allocator<Mesh>::AddVertices(m, 5);
   for (int i = 0; i < 5; ++i, ++vi) vi->P() = vcg::Point3d(p[i][0], p[i][1], 0);
   sodt_test::addFace(m, 0, 4, 2);  // above the sliver
@@ -202,6 +203,26 @@ void makeFoldedSliverPatch(Mesh& m) {
 }
 
 }  // namespace
+
+TEST(Metrics, AnyFaceFoldedInTheInputMayUnfold) {
+  // Not only slivers: a face of 16.7 degrees folded over its neighbours
+  // (as noise or a bad hole fill leaves them) has no side of its own
+  // either. Unfolded, it faces like the surface around and counts
+  // nowhere; a face beside it that turns over still counts.
+  Mesh ref;
+  makeFoldedSliverPatch(ref, 0.3);
+  Mesh unfolded;
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(unfolded, ref);
+  unfolded.vert[4].P() = vcg::Point3d(1, -0.3, 0);
+  bool faceByFace = false;
+  EXPECT_EQ(sodt::countInvertedFaces(unfolded, ref, 1, &faceByFace), 0);
+  EXPECT_TRUE(faceByFace);
+  EXPECT_EQ(sodt::countFacesFacingAway(unfolded, ref), 0);
+  Mesh turned;
+  vcg::tri::Append<Mesh, Mesh>::MeshCopy(turned, ref);
+  turned.vert[2].P() = vcg::Point3d(1, -2, 0);  // C below A-B: its two faces turn over
+  EXPECT_EQ(sodt::countInvertedFaces(turned, ref), 2);
+}
 
 TEST(Metrics, AFoldedSliverMayUnfoldIntoTheSurface) {
   // A sliver of the input folded against the surface at its corners has no

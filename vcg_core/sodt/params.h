@@ -292,9 +292,11 @@ struct SodtStats {
   double filteredSweepBoundRel = 0;
   /// The last step of a run with the face-turn bound (facing.h): faces
   /// that faced away from the input under them before it, vertices it put
-  /// back towards their input positions, and faces still facing away.
+  /// back towards their input positions, edges it flipped (only in a run
+  /// that may flip: flips or repair), and faces still facing away.
   int facingAwayFound = 0;
   int unfoldMoves = 0;
+  int unfoldFlips = 0;
   int facingAwayLeft = 0;
 };
 

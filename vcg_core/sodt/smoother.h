@@ -106,7 +106,7 @@ struct SodtSmoother {
     // The mesh is written only here, positions and faces together.
     std::vector<int> moving = r.moved;
     moving.insert(moving.end(), r.written.begin(), r.written.end());
-    writeBack(m, r.w, moving, stats.flips > 0 || stats.reorientedFaces > 0 || params.repair, r.threads);
+    writeBack(m, r.w, moving, stats.flips > 0 || stats.unfoldFlips > 0 || stats.reorientedFaces > 0 || params.repair, r.threads);
     if (classes) *classes = inMeshOrder(r.outCls, r.w.order);
     return stats;
   }

@@ -307,7 +307,7 @@ struct RepairStage : Stage<MeshType> {
 /// (facing.h), the surface the sweeps keep to (Filtered's denoised one
 /// when its filter ran), under the sweeps' face-turn and deviation bounds.
 /// Takes that surface before the first sweep, mends after every stage has
-/// finished.
+/// finished (and, with a repair, before it: it is the first stage).
 template <class MeshType>
 struct UnfoldStage : Stage<MeshType> {
   static bool applies(const SodtParams& p) { return p.guard != Guard::None && p.algorithm != Algorithm::Denoise; }
@@ -316,17 +316,49 @@ struct UnfoldStage : Stage<MeshType> {
     pos_ = r.w.pos;
     if (DeviationInput::applies(r.p)) bound_ = r.p.maxDeviationRel * surfaceDiagonal(r.w.pos, r.w.topo);
   }
-  void last(RunState<MeshType>& r) override {
-    std::vector<int> moved;
-    const UnfoldResult u =
-        unfoldFacingAway(r.w.pos, r.w.faces, r.w.deleted, pos_, *input_, r.turnCos2, bound_, r.threads, &moved);
+  /// With a repair, mends before it too: the repair then starts from
+  /// faces that face along the input, and the counts say what was found
+  /// first.
+  void finish(RunState<MeshType>& r) override {
+    if (!r.p.repair) return;
+    const UnfoldResult u = mend(r);
     r.stats.facingAwayFound = u.found;
     r.stats.unfoldMoves = u.moves;
+    r.stats.unfoldFlips = u.flips;
+    mendedBefore_ = true;
+  }
+  void last(RunState<MeshType>& r) override {
+    const UnfoldResult u = mend(r);
+    if (!mendedBefore_) r.stats.facingAwayFound = u.found;
+    r.stats.unfoldMoves += u.moves;
+    r.stats.unfoldFlips += u.flips;
     r.stats.facingAwayLeft = u.left;
-    r.written.insert(r.written.end(), moved.begin(), moved.end());
   }
 
  private:
+  /// unfoldFacingAway on the mesh as it is: flips when the run may change
+  /// the connectivity, moves to the middle for the smooth interior
+  /// vertices the run moves.
+  UnfoldResult mend(RunState<MeshType>& r) {
+    std::vector<int> moved;
+    UnfoldFreedom may;
+    may.flip = r.p.flips || r.p.repair;
+    std::vector<char> centre(r.w.pos.size(), 0);
+    for (int v : r.moved) {
+      const std::size_t i = static_cast<std::size_t>(v);
+      centre[i] = !r.w.deleted[i] && r.w.topo.kind[i] == VertexKind::Interior && i < r.outCls.cls.size() &&
+                  r.outCls.cls[i] == VertexClass::Smooth;
+    }
+    may.centre = &centre;
+    may.refNormal = &r.faceNormal;
+    const UnfoldResult u = unfoldFacingAway(r.w.pos, r.w.faces, may, r.w.deleted, pos_, *input_, r.turnCos2,
+                                            bound_, r.threads, &moved);
+    if (u.flips > 0) r.w.topo = buildRingTopology(r.w.faces, r.w.deleted);
+    r.written.insert(r.written.end(), moved.begin(), moved.end());
+    return u;
+  }
+
+  bool mendedBefore_ = false;  ///< finish() mended before the repair
   std::unique_ptr<FacingInput> input_;
   std::vector<Vec3> pos_;  ///< the input positions
   double bound_ = 0;       ///< the deviation bound (0: none)

@@ -1119,13 +1119,13 @@ std::vector<Vec3> positions(const MeshType& m) {
 /// meshes whose faces do not correspond to ref's (after edge flips or a
 /// repair that added or removed vertices). A face counts when its normal
 /// and that face's are more than 90 degrees apart; when that face is a
-/// sliver of ref folded against the surface at its corners
-/// (foldedSliverSurfaceNormals), only when it also faces away from that
-/// surface: either side is a valid orientation there, and the sweeps may
-/// unfold such a sliver. Faces without area face nowhere and are left out
+/// face of ref folded against the surface at its corners
+/// (foldedFaceSurfaceNormals), only when it also faces away from that
+/// surface: either side is a valid orientation there, and moves or a
+/// filter may unfold such a fold. Faces without area face nowhere and are left out
 /// (the input's degenerate faces among them, which crease moves may shift
 /// along their line). maxTurnDeg, when not null, receives the largest angle
-/// between a face and its face of ref (the nearer of a folded sliver's two
+/// between a face and its face of ref (the nearer of a folded face's two
 /// orientations; 0 when none). Counts on threads threads, with the same
 /// result for any number.
 template <class MeshType, class RefType>
@@ -1154,7 +1154,7 @@ long long countFacesFacingAway(const MeshType& m, const RefType& ref, int thread
 /// face while the face lists correspond (the same sizes and vertex
 /// indices), a face counting also when it collapsed to zero area while the
 /// face of ref had area; else each face against the face of ref under it
-/// (countFacesFacingAway). Face by face too, a face over a sliver of ref
+/// (countFacesFacingAway). Face by face too, a face over a face of ref
 /// folded against the surface at its corners counts only when it also
 /// faces away from that surface. faceByFace, when not null, receives which
 /// of the two it measured. Counts on threads threads.
@@ -1167,7 +1167,7 @@ long long countInvertedFaces(const MeshType& m, const RefType& ref, int threads 
   bool differ = false;
   const long long nf = static_cast<long long>(m.face.size());
   threads = std::max(1, std::min(threads, 1024));
-  const std::vector<Vec3> folded = foldedSliverSurfaceNormals(makeFaceList(ref), detail::positions(ref));
+  const std::vector<Vec3> folded = foldedFaceSurfaceNormals(makeFaceList(ref), detail::positions(ref));
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : n) reduction(|| : differ) \
     if (threads > 1 && nf >= 8192)
   for (long long i = 0; i < nf; ++i) {

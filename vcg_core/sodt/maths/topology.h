@@ -113,23 +113,22 @@ inline std::vector<Vec3> vertexAreaSums(const FaceList& faces, const std::vector
   return around;
 }
 
-/// For each live face that is a sliver (smallest angle below
-/// kSliverNormalDeg) folded against the surface at its corners (its normal
-/// more than 90 degrees from the sum of vertexAreaSums at its three
-/// vertices): the unit normal of that surface; zero for every other face.
-/// Such a sliver's own orientation is no reference for which side its face
-/// should face: moves may unfold it into the surface.
-inline std::vector<Vec3> foldedSliverSurfaceNormals(const FaceList& faces, const std::vector<Vec3>& pos) {
+/// For each live face folded against the surface at its corners (its
+/// normal more than 90 degrees from the sum of vertexAreaSums at its three
+/// vertices, which its neighbours outweigh): the unit normal of that
+/// surface; zero for every other face. Such a face is a fold of the
+/// surface, not a side of it: a sliver whose normal rounding or a move
+/// turned, or a face that noise or a bad hole fill turned over. Its own
+/// orientation is no reference for which side a face over it should face;
+/// moves and a denoising filter may unfold it into the surface.
+inline std::vector<Vec3> foldedFaceSurfaceNormals(const FaceList& faces, const std::vector<Vec3>& pos) {
   std::vector<Vec3> normal(faces.tri.size(), Vec3(0, 0, 0));
-  std::vector<Vec3> around;  // filled at the first sliver
-  const double sliverRad = kSliverNormalDeg * kPi / 180.0;
+  const std::vector<Vec3> around = vertexAreaSums(faces, pos);
   for (std::size_t f = 0; f < faces.tri.size(); ++f) {
     if (!faces.live[f]) continue;
     const std::array<int, 3>& t = faces.tri[f];
     const Vec3 a = doubleAreaVector(pos[t[0]], pos[t[1]], pos[t[2]]);
-    if (!(a.SquaredNorm() > 0) || !isFinite(a) || !(triangleMinAngle(pos[t[0]], pos[t[1]], pos[t[2]]) < sliverRad))
-      continue;
-    if (around.empty()) around = vertexAreaSums(faces, pos);
+    if (!(a.SquaredNorm() > 0) || !isFinite(a)) continue;
     const Vec3 mean = around[t[0]] + around[t[1]] + around[t[2]];
     const double len = mean.Norm();
     if (len > 0 && std::isfinite(len) && mean * a < 0) normal[f] = mean / len;
