@@ -349,6 +349,8 @@ class Unfolder {
     }
     const int c = thirdVertex(fi, a, b);
     if (shared != 2 || g < 0 || c < 0 || c == d || !faces_.flippable[static_cast<std::size_t>(g)]) return false;
+    if (vf_[static_cast<std::size_t>(c)].size() > kUnfoldMaxStar || vf_[static_cast<std::size_t>(d)].size() > kUnfoldMaxStar)
+      return false;  // as every mend: no corner of more faces (and c-d is looked up around c)
     for (int h : vf_[static_cast<std::size_t>(c)]) {
       const auto& u = faces_.tri[static_cast<std::size_t>(h)];
       if (std::find(u.begin(), u.end(), d) != u.end()) return false;  // c-d exists
