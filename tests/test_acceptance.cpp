@@ -347,13 +347,15 @@ TEST(Acceptance, SharedMeshesStayNearTheInputBothWays) {
 TEST(Acceptance, HingeRepairRisesWithItsBudget) {
   // hinge's coarse cylinders need more vertices than the default budget to
   // lift their slivers (`sodt smooth --algorithm feature --flips --repair
-  // --repair-budget B`): measured 10.1 degrees at 100%, 17.9 at 200%. At
-  // 200% more faces are below the target than half the budget, so plain
-  // rounds and the tide both run and the better is kept; plain rounds
-  // alone spent the budget in two rounds and ended at 5.0 degrees.
+  // --repair-budget B`): measured 12.0 degrees at 100%, 18.9 at 200% and
+  // the target, 25.5, at 300% (204% more vertices; 18.6 before the
+  // feature lines could coarsen). At 200% more faces are below the target
+  // than half the budget, so plain rounds and the tide both run and the
+  // better is kept; plain rounds alone spent the budget in two rounds and
+  // ended at 5.0 degrees.
   REQUIRE_SHARED("hinge.ply");
   double last = 0;
-  for (const auto& b : {std::make_pair(100.0, 10.0), std::make_pair(200.0, 17.0)}) {
+  for (const auto& b : {std::make_pair(100.0, 11.5), std::make_pair(200.0, 18.0), std::make_pair(300.0, 25.0)}) {
     sodt::MeshD m;
     sodt::loadMesh(shared("hinge.ply"), m);
     const int nv = m.VN();
@@ -366,7 +368,7 @@ TEST(Acceptance, HingeRepairRisesWithItsBudget) {
     const double a = sodt::computeAngleStats(m).minDeg;
     EXPECT_GE(a, b.second) << "budget " << b.first;
     EXPECT_GT(a, last) << "budget " << b.first;
-    EXPECT_LE(s.verticesAdded + s.verticesRemoved, b.first / 100 * nv) << "budget " << b.first;
+    EXPECT_LE(s.verticesAdded, b.first / 100 * nv) << "budget " << b.first;
     last = a;
   }
 }

@@ -7,8 +7,9 @@
 // instead), and relax the changed neighbourhood with S-ODT under the
 // guards, until no triangle is below the target or nothing more can be
 // done. Feature edges (sharper
-// than the feature angle, or along a crease) are never flipped or collapsed,
-// corners never move, every change keeps the surface within the deviation
+// than the feature angle, or along a crease) are never flipped, and
+// collapsed only along their line (a vertex between two of them into one
+// of its neighbours there, within the bound), corners never move, every change keeps the surface within the deviation
 // bound of the input both ways (input near the change -> output, output ->
 // input), and every face it makes or moves within the face-turn bound of
 // the input face under it. The vertices it adds get their attributes
@@ -61,7 +62,7 @@ constexpr long kRepairInputNodes = 1024;
 /// so each refusal would open kRepairInputNodes nodes (a double fan of
 /// 20000 needles took 6 s with --flips --repair before the input cover,
 /// over 60 s with it and no such limit).
-constexpr std::size_t kRepairMaxCoverStar = 256;
+constexpr std::size_t kRepairMaxCoverStar = 1024;
 /// ... in at most this many balls along the face's longest edge.
 constexpr double kRepairInputBalls = 16;
 
@@ -92,6 +93,21 @@ constexpr int kRepairPlainRounds = 30;
 /// 8.6 with the tide after them). Measured on the corpus, 3 rounds cut off
 /// late gains (occt_sh1 21.0 -> 18.9 degrees), 6 kept them.
 constexpr int kRepairPlainPatience = 6;
+/// Rounds under the tide end too when this many in a row found no better
+/// state: where the worst triangle is pinned and every round leaves more
+/// below the target (a fan's apex of valence 20000 with --flips --repair:
+/// twelve rounds added 20000 vertices, each state worse than the swept
+/// mesh, which was returned), the rest is work thrown away (that fan took
+/// 4.7 s instead of 13). Measured on the corpus, 4 rounds cut off late
+/// gains (occt_shape 20.4 -> 6.4 degrees); 6 changed two meshes by 1-3
+/// degrees and took the median repair time from 16 to 9 times the
+/// sweeps'.
+constexpr int kRepairTidePatience = 6;
+
+/// A crease vertex may be collapsed along its crease where the crease turns
+/// there by at most this (and the bound holds): a tessellated curve, not a
+/// corner of the feature line.
+constexpr double kRepairCreaseCollapseTurnDeg = 30;
 
 /// What the repair may do.
 struct RepairSettings {
@@ -104,7 +120,7 @@ struct RepairSettings {
   /// test alone).
   double maxTurnCos2 = 0;
   int maxRounds = 100;  ///< of the rounds under a tide
-  long long maxChanges = 0;  ///< vertices added plus removed, at most
+  long long maxAdded = 0;  ///< vertices added, at most (removing one costs nothing)
 };
 
 /// Where the repair put a vertex it added, from up to three working
@@ -274,6 +290,7 @@ class LocalRepair {
   /// Edge a-b of faces f1 (a, b, c) and f2 (b, a, d) becomes c-d.
   void applyFlip(int f1, int f2, int a, int b, int c, int d);
   Verdict tryCollapse(int a, int b);
+  Verdict collapseAlongCrease(int a, int b, int& q) const;
   Verdict trySplit(int a, int b, double at = 0.5);
   Verdict trySplitBorder(int a, int b);
   /// Where a walk from a face toward a point in its plane ended.
@@ -626,14 +643,44 @@ inline LocalRepair::Verdict LocalRepair::tryFlipUnderCap(int a, int b) {
   return Done;
 }
 
+/// Whether crease vertex a may go into b along its crease: a-b is one of
+/// its two feature edges, the crease turns at a by at most
+/// kRepairCreaseCollapseTurnDeg, and a lies within the bound of the feature
+/// edge b-q that replaces b-a-q (q: a's other neighbour on the crease). A
+/// CAD export's finely cut circle or fillet edge then coarsens as far as
+/// the bound lets it, where splitting alone could only add to the needles
+/// along it.
+inline LocalRepair::Verdict LocalRepair::collapseAlongCrease(int a, int b, int& q) const {
+  if (!isFeature(a, b)) return Feature;
+  q = -1;
+  for (int f : vf_[a])
+    for (int u : faces_.tri[f])
+      if (u != a && u != b && isFeature(a, u)) q = u;
+  if (q < 0) return Feature;
+  if (angleBetween(pos_[a] - pos_[b], pos_[q] - pos_[a]) > kRepairCreaseCollapseTurnDeg * kPi / 180) return Feature;
+  const Vec3 e = pos_[q] - pos_[b];
+  const double l2 = e.SquaredNorm();
+  const double t = l2 > 0 ? std::min(1.0, std::max(0.0, ((pos_[a] - pos_[b]) * e) / l2)) : 0.0;
+  if (s_.bound > 0 && (pos_[a] - (pos_[b] + e * t)).SquaredNorm() > s_.bound * s_.bound) return OverBound;
+  return Done;
+}
+
 /// Removes a by moving it onto b (a half-edge collapse), when a is free,
 /// a-b is an interior edge whose ends share no neighbour but the two
 /// opposite vertices (the link condition: the mesh stays manifold), no
 /// face folds or turns by more than 45 degrees, the smallest angle around
 /// grows, and the new faces stay near the input while covering a, and
-/// within the face-turn bound of the input under them.
+/// within the face-turn bound of the input under them. A crease vertex
+/// goes only along its crease (collapseAlongCrease): the line it lay on
+/// stays a chain of feature edges.
 inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
-  if (role_[a] != Role::Free) return Feature;
+  int q = -1;  // a crease vertex's other neighbour on its crease
+  if (role_[a] == Role::Crease) {
+    const Verdict v = collapseAlongCrease(a, b, q);
+    if (v != Done) return v;
+  } else if (role_[a] != Role::Free) {
+    return Feature;
+  }
   int f1, f2;
   if (!interiorEdge(a, b, f1, f2)) return Topology;
   const int c = third(f1, a, b), d = third(f2, a, b);
@@ -681,6 +728,11 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
   clearVf(a);
   deleted_[a] = 1;
   role_[a] = Role::Fixed;
+  if (q >= 0) {
+    feature_.erase(key(a, b));
+    feature_.erase(key(a, q));
+    feature_.insert(key(b, q));
+  }
   ++r_.collapses;
   ++r_.removed;
   touched_.insert(touched_.end(), {b, c, d});
@@ -1275,7 +1327,7 @@ inline bool LocalRepair::round(std::vector<RepairReason>& why, bool& budgetOut) 
   for (const auto& b : bad) {
     const int f = b.second;
     if (!faces_.live[f] || faceMinAngle(f) >= s_.targetRad) continue;
-    if (r_.added + r_.removed >= s_.maxChanges) {
+    if (r_.added >= s_.maxAdded) {
       budgetOut = true;
       break;
     }
@@ -1351,13 +1403,14 @@ inline LocalRepair::Stop LocalRepair::rounds(bool tide, int maxRounds, int patie
 
 inline LocalRepair::Stop LocalRepair::attempt(bool tide, Snapshot& best) {
   std::vector<RepairReason> why;
-  Stop stop = rounds(tide, tide ? s_.maxRounds : kRepairPlainRounds, tide ? 0 : kRepairPlainPatience, best, why);
+  Stop stop = rounds(tide, tide ? s_.maxRounds : kRepairPlainRounds, tide ? kRepairTidePatience : kRepairPlainPatience,
+                     best, why);
   restore(best);
-  if (stop == Stop::Patience) {
+  if (!tide && stop == Stop::Patience) {
     // The plain rounds churn (they split faster than they fix): the tide,
     // from the best state, spends what is left on the worst faces first.
     Snapshot tided;
-    stop = rounds(true, s_.maxRounds, 0, tided, why);
+    stop = rounds(true, s_.maxRounds, kRepairTidePatience, tided, why);
     restore(tided);
     best = std::move(tided);
   }
@@ -1384,7 +1437,7 @@ inline RepairResult LocalRepair::run() {
   const long long n = static_cast<long long>(below);
   Snapshot best;
   Stop stop;
-  if (n <= s_.maxChanges && 2 * n > s_.maxChanges) {
+  if (n <= s_.maxAdded && 2 * n > s_.maxAdded) {
     // Between: plain rounds may spend the budget before every face had
     // its turn, or fix them all; both are tried from the same start.
     Snapshot start, plain;
@@ -1398,7 +1451,7 @@ inline RepairResult LocalRepair::run() {
       stop = plainStop;
     }
   } else {
-    stop = attempt(n > s_.maxChanges, best);
+    stop = attempt(n > s_.maxAdded, best);
   }
   const bool budgetOut = stop == Stop::Out;
   std::vector<RepairReason> why = best.why;
@@ -1543,7 +1596,7 @@ void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const R
   s.flipMaxRad = std::max(p.flipMaxDihedralDeg, 1.0) * kPi / 180;
   s.bound = input.bound;
   s.maxTurnCos2 = input.maxTurnCos2;
-  s.maxChanges = std::llround(static_cast<double>(nv0) * p.repairBudgetPct / 100.0);
+  s.maxAdded = std::llround(static_cast<double>(nv0) * p.repairBudgetPct / 100.0);
   LocalRepair repair(w.pos, w.faces, w.deleted, input.grid.get(), s);
   const bool classified = p.algorithm == Algorithm::Feature || p.algorithm == Algorithm::Denoise;
   repair.setUp(movable, classified ? &cls.cls : nullptr, classified ? &cls.creaseDir : nullptr);
