@@ -216,7 +216,7 @@ void saveClassMesh(sodt::PendingFile& f, MeshD& m, const sodt::Classification& c
 
 /// The repair's line: what it changed, and what it left below the target.
 void printRepairSummary(const sodt::SodtParams& p, const sodt::SodtStats& st) {
-  int why[4] = {0, 0, 0, 0};
+  int why[sodt::kRepairReasonCount] = {};
   for (const sodt::RemainingTriangle& t : st.belowTarget) ++why[static_cast<int>(t.why)];
   std::printf("  repair         %d vertices added, %d removed (%d splits, %d points inserted, %d collapses, %d flips, "
               "%lld moves); %zu triangles below %s deg",
@@ -225,7 +225,7 @@ void printRepairSummary(const sodt::SodtParams& p, const sodt::SodtStats& st) {
   if (!st.belowTarget.empty()) {
     std::printf(" (");
     const char* sep = "";
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < sodt::kRepairReasonCount; ++k)
       if (why[k] > 0) {
         std::printf("%s%d %s", sep, why[k], sodt::toString(static_cast<sodt::RepairReason>(k)));
         sep = ", ";

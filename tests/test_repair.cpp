@@ -445,6 +445,42 @@ TEST(Repair, StopsAtItsBudgetWithTheSmallestAngleRaised) {
   EXPECT_GT(minAngleDeg(m), 2 * minAngleDeg(swept));
 }
 
+TEST(Repair, SaysWhichTrianglesTheRoundsEndedBeforeFromThoseTriedAndLeft) {
+  // Uneven slivers across a strip, more below the target than the budget
+  // has vertices: the rounds work under a tide, and one round is allowed.
+  // It tries only the worst slivers; the others, and the faces its changes
+  // made, were never tried as they are: "rounds", not "budget" (the budget
+  // is not spent) nor "pinned" (nothing was found not to help them).
+  const int n = 24;
+  sodt::MeshD m;
+  slicedStrip(m, n, 0.5);
+  for (int i = 1; i < n; ++i) m.vert[i].P()[0] += 0.3 / n * std::sin(i * 1.7);
+  std::vector<Vec3> pos;
+  for (const auto& v : m.vert) pos.push_back(v.cP());
+  sodt::FaceList faces;
+  for (const auto& f : m.face)
+    faces.tri.push_back({{int(vcg::tri::Index(m, f.cV(0))), int(vcg::tri::Index(m, f.cV(1))),
+                          int(vcg::tri::Index(m, f.cV(2)))}});
+  faces.live.assign(faces.tri.size(), 1);
+  faces.flippable.assign(faces.tri.size(), 1);
+  std::vector<char> deleted(pos.size(), 0), movable(pos.size(), 0);
+  sodt::RepairSettings s;
+  s.maxAdded = 20;  // fewer than the 2 n slivers below 25 degrees
+  s.maxRounds = 1;
+  sodt::LocalRepair repair(pos, faces, deleted, nullptr, s);
+  repair.setUp(movable, nullptr, nullptr);
+  const sodt::RepairResult r = repair.run();
+  ASSERT_GT(r.added, 0);
+  ASSERT_LT(r.added, s.maxAdded);
+  ASSERT_FALSE(r.remaining.empty());
+  int rounds = 0;
+  for (const auto& t : r.remaining) {
+    EXPECT_NE(t.why, sodt::RepairReason::Budget);
+    rounds += t.why == sodt::RepairReason::Rounds;
+  }
+  EXPECT_GT(rounds, 0);
+}
+
 TEST(Repair, HandsChurningRoundsToTheTideFromTheBestState) {
   // Small spheres jittered along and across the surface: on some, every
   // round on all faces below the target leaves a new face below the best

@@ -364,7 +364,7 @@ std::string changesLine(const sodt::SodtParams& p, const sodt::SodtStats& s) {
   std::string t;
   if (p.flips) t += "; " + std::to_string(s.flips) + " edges flipped between sweeps";
   if (!p.repair) return t;
-  int why[4] = {0, 0, 0, 0};
+  int why[sodt::kRepairReasonCount] = {};
   for (const sodt::RemainingTriangle& b : s.belowTarget) ++why[static_cast<int>(b.why)];
   char buf[256];
   std::snprintf(buf, sizeof buf,
@@ -376,7 +376,7 @@ std::string changesLine(const sodt::SodtParams& p, const sodt::SodtStats& s) {
   t += buf;
   if (!s.belowTarget.empty()) {
     std::string reasons;
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < sodt::kRepairReasonCount; ++k)
       if (why[k])
         reasons += (reasons.empty() ? "" : ", ") + std::to_string(why[k]) + " " +
                    sodt::toString(static_cast<sodt::RepairReason>(k));

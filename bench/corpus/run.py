@@ -263,7 +263,7 @@ def markdown(results, configs, meta, main="repair"):
         L.append("")
     L.append("## Per mesh\n")
     L.append("Min angle: input → each configuration. Hausdorff, growth, needles/caps and *left* (triangles the "
-             "repair left below its angle, by reason: p pinned, b bound, n non-manifold, g budget) are those of "
+             "repair left below its angle, by reason: p pinned, b bound, n non-manifold, g budget, r rounds) are those of "
              "the `%s` run; time: seconds of `flips` / `%s` and their ratio.\n" % (main, main))
     hdr = "| mesh | kind | V in | min angle: in → " + " → ".join(label for _, label, _ in configs) + \
           " | Hausdorff % (along edges) | growth % | needles / caps | left | time (s) | input notes |"
@@ -283,7 +283,7 @@ def markdown(results, configs, meta, main="repair"):
                 hd += " (%s)" % fmt(m["hausdorff_edges_pct"], 3)
             gr = fmt(100.0 * (m["vertices"] / r["vertices_in"] - 1.0))
             nc = "%d / %d" % (m["needles"], m["caps"])
-            left = " ".join("%d%s" % (v, {"pinned": "p", "bound": "b", "non-manifold": "n", "budget": "g"}.get(k, k))
+            left = " ".join("%d%s" % (v, {"pinned": "p", "bound": "b", "non-manifold": "n", "budget": "g", "rounds": "r"}.get(k, k))
                             for k, v in sorted(m["below_reasons"].items())) or "0"
             f = r["runs"].get("flips")
             tm = "%s / %s (%s×)" % (fmt(f["seconds"], 2), fmt(m["seconds"], 2), fmt(m["seconds"] / f["seconds"], 1)) \

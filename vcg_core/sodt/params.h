@@ -173,14 +173,18 @@ struct SodtParams {
 
 /// Why the repair left a triangle below its target (see repair.h).
 enum class RepairReason : int {
-  Pinned = 0,       ///< its edges are features or end at fixed vertices, or no change improves it
-  Bound = 1,        ///< every change that would improve it leaves the deviation bound or the face-turn bound
-  NonManifold = 2,  ///< a change would make the mesh non-manifold, or it lies at a border
-  Budget = 3,       ///< the rounds or the budget of changed vertices ran out first
+  Pinned = 0,       ///< tried as it is: its edges are features or end at fixed vertices, or no change improves it
+  Bound = 1,        ///< tried as it is: every change that would improve it leaves the deviation or face-turn bound
+  NonManifold = 2,  ///< tried as it is: a change would make the mesh non-manifold, or it lies at a border
+  Budget = 3,       ///< the budget of added vertices ran out first
+  Rounds = 4,       ///< not tried as it is: the rounds ended first (their limit, or rounds without a better state)
 };
 
+/// How many RepairReason values there are.
+constexpr int kRepairReasonCount = 5;
+
 inline const char* toString(RepairReason r) {
-  static const char* const names[] = {"pinned", "bound", "non-manifold", "budget"};
+  static const char* const names[] = {"pinned", "bound", "non-manifold", "budget", "rounds"};
   return enumName(r, names);
 }
 

@@ -308,14 +308,20 @@ class LocalRepair {
   void flipAround(const std::vector<int>& vertices);
   bool relax(int v);
   bool orderedRing(int v, std::vector<int>& ring) const;
+  /// Why an attempt on a face failed, and the face as it was then: the
+  /// reason holds while the face is unchanged.
+  struct Left {
+    RepairReason why = RepairReason::Rounds;
+    std::array<int, 3> tri{{-1, -1, -1}};
+  };
   struct Snapshot;
   void score(double& minAngle, std::size_t& below) const;
   void save(Snapshot& s) const;
   void restore(const Snapshot& s);
-  bool round(std::vector<RepairReason>& why, bool& budgetOut);
+  bool round(std::vector<Left>& why, bool& budgetOut);
   /// How rounds() ended.
-  enum class Stop { Done, Patience, Out };
-  Stop rounds(bool tide, int maxRounds, int patience, Snapshot& best, std::vector<RepairReason>& why);
+  enum class Stop { Done, Patience, Budget, Rounds };
+  Stop rounds(bool tide, int maxRounds, int patience, Snapshot& best, std::vector<Left>& why);
   /// Rounds from the current state, under a tide or plain (handing over to
   /// the tide after kRepairPlainPatience rounds without a better state);
   /// the best state is left in place and in best.
@@ -1284,7 +1290,7 @@ struct LocalRepair::Snapshot {
   RepairResult counts;
   double minAngle = 0;
   std::size_t below = 0;
-  std::vector<RepairReason> why;
+  std::vector<Left> why;
 };
 
 inline void LocalRepair::score(double& minAngle, std::size_t& below) const {
@@ -1313,7 +1319,7 @@ inline void LocalRepair::restore(const Snapshot& s) {
 /// kRepairTideFactor), worst first, then flips and S-ODT relaxation around
 /// what changed. False when nothing changed; budgetOut is set when the
 /// budget stopped the round.
-inline bool LocalRepair::round(std::vector<RepairReason>& why, bool& budgetOut) {
+inline bool LocalRepair::round(std::vector<Left>& why, bool& budgetOut) {
   std::vector<std::pair<double, int>> bad;
   double worst = kPi;
   for (std::size_t f = 0; f < faces_.tri.size(); ++f)
@@ -1336,9 +1342,9 @@ inline bool LocalRepair::round(std::vector<RepairReason>& why, bool& budgetOut) 
     if (fixFace(f, w))
       progress = true;
     else if (std::size_t(f) < why.size())
-      why[f] = w;
+      why[f] = {w, faces_.tri[f]};
   }
-  why.resize(faces_.tri.size(), RepairReason::Pinned);
+  why.resize(faces_.tri.size());
   std::vector<int> region = touched_;
   std::sort(region.begin(), region.end());
   region.erase(std::unique(region.begin(), region.end()), region.end());
@@ -1363,11 +1369,11 @@ inline bool LocalRepair::round(std::vector<RepairReason>& why, bool& budgetOut) 
 /// nothing or stalls below a lower tide raises the next one's); best
 /// receives the best state seen (the largest smallest angle, then the
 /// fewest faces below the target) and why the reasons of its faces.
-/// Returns which of these ended them: Patience, Out (the budget or the
-/// rounds), else Done.
+/// Returns which of these ended them: Patience, Budget, Rounds (the
+/// limit), else Done.
 inline LocalRepair::Stop LocalRepair::rounds(bool tide, int maxRounds, int patience, Snapshot& best,
-                                             std::vector<RepairReason>& why) {
-  why.assign(faces_.tri.size(), RepairReason::Pinned);
+                                             std::vector<Left>& why) {
+  why.assign(faces_.tri.size(), Left());
   useTide_ = tide;
   tideFloor_ = 0;
   bool budgetOut = false;
@@ -1397,13 +1403,13 @@ inline LocalRepair::Stop LocalRepair::rounds(bool tide, int maxRounds, int patie
       tideFloor_ = tide_ + kRepairTideRiseDeg * kPi / 180;
       stall = 0;
     }
-    if (k + 1 == maxRounds) budgetOut = true;
+    if (k + 1 == maxRounds) return Stop::Rounds;
   }
-  return budgetOut ? Stop::Out : Stop::Done;
+  return budgetOut ? Stop::Budget : Stop::Done;
 }
 
 inline LocalRepair::Stop LocalRepair::attempt(bool tide, Snapshot& best) {
-  std::vector<RepairReason> why;
+  std::vector<Left> why;
   Stop stop = rounds(tide, tide ? s_.maxRounds : kRepairPlainRounds, tide ? kRepairTidePatience : kRepairPlainPatience,
                      best, why);
   restore(best);
@@ -1454,16 +1460,19 @@ inline RepairResult LocalRepair::run() {
   } else {
     stop = attempt(n > s_.maxAdded, best);
   }
-  const bool budgetOut = stop == Stop::Out;
-  std::vector<RepairReason> why = best.why;
-  why.resize(faces_.tri.size(), RepairReason::Pinned);
+  const bool budgetOut = stop == Stop::Budget;
+  std::vector<Left> why = best.why;
+  why.resize(faces_.tri.size());
   for (std::size_t f = 0; f < faces_.tri.size(); ++f) {
     if (!faces_.live[f]) continue;
     const double a = faceMinAngle(int(f));
     if (a < s_.targetRad) {
       const auto& t = faces_.tri[f];
+      // A face changed since its last attempt (or never tried) was left by
+      // the end of the rounds, or of the budget.
+      const RepairReason reason = why[f].tri == t ? why[f].why : budgetOut ? RepairReason::Budget : RepairReason::Rounds;
       const Vec3 c = (pos_[t[0]] + pos_[t[1]] + pos_[t[2]]) / 3.0;
-      r_.remaining.push_back({{c[0], c[1], c[2]}, a * 180 / kPi, budgetOut ? RepairReason::Budget : why[f]});
+      r_.remaining.push_back({{c[0], c[1], c[2]}, a * 180 / kPi, reason});
     }
   }
   return r_;
