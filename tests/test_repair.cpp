@@ -445,31 +445,55 @@ TEST(Repair, StopsAtItsBudgetWithTheSmallestAngleRaised) {
   EXPECT_GT(minAngleDeg(m), 2 * minAngleDeg(swept));
 }
 
+/// The smallest angle of the live faces of the repair's arrays, degrees.
+double liveMinAngleDeg(const std::vector<Vec3>& pos, const sodt::FaceList& faces) {
+  double worst = 180;
+  for (std::size_t f = 0; f < faces.tri.size(); ++f)
+    if (faces.live[f])
+      worst = std::min(worst, sodt::triangleMinAngle(pos[faces.tri[f][0]], pos[faces.tri[f][1]],
+                                                     pos[faces.tri[f][2]]) * 180 / sodt::kPi);
+  return worst;
+}
+
+/// slicedStrip's uneven slivers (n across), as the repair's arrays, with
+/// every vertex on the border (fixed).
+struct UnevenStrip {
+  std::vector<Vec3> pos;
+  sodt::FaceList faces;
+  std::vector<char> deleted, movable;
+  explicit UnevenStrip(int n) {
+    sodt::MeshD m;
+    slicedStrip(m, n, 0.5);
+    for (int i = 1; i < n; ++i) m.vert[i].P()[0] += 0.3 / n * std::sin(i * 1.7);
+    for (const auto& v : m.vert) pos.push_back(v.cP());
+    for (const auto& f : m.face)
+      faces.tri.push_back({{int(vcg::tri::Index(m, f.cV(0))), int(vcg::tri::Index(m, f.cV(1))),
+                            int(vcg::tri::Index(m, f.cV(2)))}});
+    faces.live.assign(faces.tri.size(), 1);
+    faces.flippable.assign(faces.tri.size(), 1);
+    deleted.assign(pos.size(), 0);
+    movable.assign(pos.size(), 0);
+  }
+  sodt::RepairResult repair(const sodt::RepairSettings& s) {
+    sodt::LocalRepair r(pos, faces, deleted, nullptr, s);
+    r.setUp(movable, nullptr, nullptr);
+    return r.run();
+  }
+  double minAngleDeg() const { return liveMinAngleDeg(pos, faces); }
+};
+
 TEST(Repair, SaysWhichTrianglesTheRoundsEndedBeforeFromThoseTriedAndLeft) {
-  // Uneven slivers across a strip, more below the target than the budget
-  // has vertices: the rounds work under a tide, and one round is allowed.
-  // It tries only the worst slivers; the others, and the faces its changes
+  // More slivers below the target than the budget has vertices: the rounds
+  // work under a tide, and one round is allowed (no polish after it). It
+  // tries only the worst slivers; the others, and the faces its changes
   // made, were never tried as they are: "rounds", not "budget" (the budget
   // is not spent) nor "pinned" (nothing was found not to help them).
-  const int n = 24;
-  sodt::MeshD m;
-  slicedStrip(m, n, 0.5);
-  for (int i = 1; i < n; ++i) m.vert[i].P()[0] += 0.3 / n * std::sin(i * 1.7);
-  std::vector<Vec3> pos;
-  for (const auto& v : m.vert) pos.push_back(v.cP());
-  sodt::FaceList faces;
-  for (const auto& f : m.face)
-    faces.tri.push_back({{int(vcg::tri::Index(m, f.cV(0))), int(vcg::tri::Index(m, f.cV(1))),
-                          int(vcg::tri::Index(m, f.cV(2)))}});
-  faces.live.assign(faces.tri.size(), 1);
-  faces.flippable.assign(faces.tri.size(), 1);
-  std::vector<char> deleted(pos.size(), 0), movable(pos.size(), 0);
+  UnevenStrip strip(24);
   sodt::RepairSettings s;
-  s.maxAdded = 20;  // fewer than the 2 n slivers below 25 degrees
+  s.maxAdded = 20;  // fewer than the 48 slivers below 25 degrees
   s.maxRounds = 1;
-  sodt::LocalRepair repair(pos, faces, deleted, nullptr, s);
-  repair.setUp(movable, nullptr, nullptr);
-  const sodt::RepairResult r = repair.run();
+  s.polish = false;
+  const sodt::RepairResult r = strip.repair(s);
   ASSERT_GT(r.added, 0);
   ASSERT_LT(r.added, s.maxAdded);
   ASSERT_FALSE(r.remaining.empty());
@@ -479,6 +503,24 @@ TEST(Repair, SaysWhichTrianglesTheRoundsEndedBeforeFromThoseTriedAndLeft) {
     rounds += t.why == sodt::RepairReason::Rounds;
   }
   EXPECT_GT(rounds, 0);
+}
+
+TEST(Repair, PolishLeavesFewerTrianglesBelowTheTargetAndNeverASmallerAngle) {
+  // The same strip and round: the polish after it takes only changes that
+  // raise the smallest angle of the faces they change (measured: 45 faces
+  // below 25 degrees and 3.0 degrees at worst without it, 32 and 9.5 with
+  // it, the budget spent).
+  UnevenStrip plain(24), polished(24);
+  sodt::RepairSettings s;
+  s.maxAdded = 20;
+  s.maxRounds = 1;
+  s.polish = false;
+  const sodt::RepairResult a = plain.repair(s);
+  s.polish = true;
+  const sodt::RepairResult b = polished.repair(s);
+  EXPECT_GE(polished.minAngleDeg(), plain.minAngleDeg());
+  EXPECT_LT(b.remaining.size(), a.remaining.size());
+  EXPECT_LE(b.added, s.maxAdded);
 }
 
 TEST(Repair, HandsChurningRoundsToTheTideFromTheBestState) {
@@ -546,12 +588,7 @@ TEST(Repair, SplitsTheBorderEdgeAnInsertedPointWouldLieBeyond) {
   EXPECT_EQ(pos[4][1], 0.0);
   for (const Vec3& p : pos) EXPECT_EQ(p[2], 0.0);
   // The cap is gone: the smallest angle is far above its 11 degrees.
-  double worst = 180;
-  for (std::size_t f = 0; f < faces.tri.size(); ++f)
-    if (faces.live[f])
-      worst = std::min(worst, sodt::triangleMinAngle(pos[faces.tri[f][0]], pos[faces.tri[f][1]], pos[faces.tri[f][2]]) *
-                                  180 / sodt::kPi);
-  EXPECT_GT(worst, 20.0);
+  EXPECT_GT(liveMinAngleDeg(pos, faces), 20.0);
 }
 
 /// An inside corner of 90 degrees between a floor (z = 0, y >= 0) and a
@@ -579,14 +616,7 @@ struct CapUnderPolyline {
         return true;
     return false;
   }
-  double minAngleDeg() const {
-    double worst = 180;
-    for (std::size_t f = 0; f < faces.tri.size(); ++f)
-      if (faces.live[f])
-        worst = std::min(worst, sodt::triangleMinAngle(pos[faces.tri[f][0]], pos[faces.tri[f][1]],
-                                                       pos[faces.tri[f][2]]) * 180 / sodt::kPi);
-    return worst;
-  }
+  double minAngleDeg() const { return liveMinAngleDeg(pos, faces); }
   /// The repair with the input's distance bound `bound`.
   sodt::RepairResult repair(double bound) {
     const sodt::InputGrid input(pos, faces);
