@@ -7,6 +7,7 @@
 #include "test_mesh.h"
 
 #include <sodt/remesh/repair.h>
+#include <sodt_io/corners.h>
 #include <sodt_io/io.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/prebuilt.h>
@@ -523,16 +524,57 @@ TEST(Repair, PolishLeavesFewerTrianglesBelowTheTargetAndNeverASmallerAngle) {
   EXPECT_LE(b.added, s.maxAdded);
 }
 
+TEST(Repair, LeavesProtectedCornersAloneAndRanksItsStatesOutsideThem) {
+  // The uneven strip, alone and beside a spike: a lone triangle whose two
+  // border edges meet at 2 degrees, a corner no change can open. Worked
+  // on, the spike's border edges were split into thinner faces beside it
+  // (3.99 degrees outside the corner); ranked by the smallest angle of
+  // every face, its 2 degrees would tie every state and leave the choice
+  // to the count below the target. Left alone, and with the states ranked
+  // outside the protected corners as the report measures, the strip ends
+  // the same with the spike as without it (plain rounds: the budget is
+  // ample).
+  UnevenStrip alone(24), beside(24);
+  const int base = int(beside.pos.size());
+  const double h = std::tan(1.0 * sodt::kPi / 180);
+  for (const Vec3& q : {Vec3(10, 0, 0), Vec3(11, -h, 0), Vec3(11, h, 0)}) {
+    beside.pos.push_back(q);
+    beside.deleted.push_back(0);
+    beside.movable.push_back(0);
+  }
+  beside.faces.tri.push_back({{base, base + 1, base + 2}});
+  beside.faces.live.push_back(1);
+  beside.faces.flippable.push_back(1);
+  sodt::RepairSettings s;
+  s.maxAdded = 1000;
+  alone.repair(s);
+  beside.repair(s);
+  std::vector<std::array<int, 3>> tri;
+  for (std::size_t f = 0; f < beside.faces.tri.size(); ++f)
+    if (beside.faces.live[f]) tri.push_back(beside.faces.tri[f]);
+  const sodt::CornerView c = sodt::protectedCorners(tri, beside.pos, s.featureRad, s.targetRad);
+  ASSERT_EQ(c.corners, 1);
+  EXPECT_NEAR(c.smallestRad * 180 / sodt::kPi, 2.0, 1e-6);
+  EXPECT_GT(alone.minAngleDeg(), 2.0);
+  EXPECT_NEAR(c.minAngleElsewhere * 180 / sodt::kPi, alone.minAngleDeg(), 1e-9);
+}
+
 TEST(Repair, HandsChurningRoundsToTheTideFromTheBestState) {
   // Small spheres jittered along and across the surface: on some, every
   // round on all faces below the target leaves a new face below the best
   // smallest angle so far, and 30 such rounds give back little more than
   // the sweeps. After six rounds without a better state the tide goes on
-  // from the best one. Measured over these 30 spheres (default run, flips
-  // and repair): a mean smallest angle of 11.1 degrees with 30 plain
-  // rounds, 11.6 with the hand-over; 8.7 after the sweeps alone (4 of
-  // them gained 2 to 5.5 degrees, one lost 0.2).
-  double sum = 0, swept = 0;
+  // from the best one (when it came in: a mean smallest angle of 11.1
+  // degrees with 30 plain rounds, 11.6 with the hand-over). The jitter
+  // makes feature edges, and corners between them sharper than the
+  // target: states are ranked outside those corners, as the report
+  // measures, and none may fall below the sweeps' smallest angle
+  // anywhere. Measured over these 30 spheres (default run, flips and
+  // repair), outside the corners: 10.6 degrees after the sweeps, 16.5
+  // after the repair; ranked by every face (11.6 there), it was 14.7 and
+  // 6 spheres ended below the sweeps outside the corners. Every face: 8.2
+  // after the sweeps, 11.2 after the repair.
+  double sum = 0, swept = 0, sumElsewhere = 0, sweptElsewhere = 0;
   const int seeds = 30;
   const auto make = [](sodt::MeshD& m, unsigned seed) {
     sodt_test::makeSphere(m, 2);
@@ -554,11 +596,15 @@ TEST(Repair, HandsChurningRoundsToTheTideFromTheBestState) {
     p.repair = true;
     sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
     const double a = minAngleDeg(m), b = minAngleDeg(sweptOnly);
-    EXPECT_GE(a, b - 1e-9) << "seed " << seed;  // never worse than the sweeps
-    sum += a, swept += b;
+    EXPECT_GE(a, b - 1e-9) << "seed " << seed;  // never worse than the sweeps, anywhere
+    const double e = sodt::protectedAngles(m, p.featureAngleDeg, p.repairAngleDeg).minAngleElsewhereDeg;
+    const double f = sodt::protectedAngles(sweptOnly, p.featureAngleDeg, p.repairAngleDeg).minAngleElsewhereDeg;
+    EXPECT_GE(e, f - 1e-9) << "seed " << seed;  // nor outside the protected corners
+    sum += a, swept += b, sumElsewhere += e, sweptElsewhere += f;
   }
-  EXPECT_LT(swept / seeds, 9.5);
-  EXPECT_GT(sum / seeds, 11.4);
+  EXPECT_LT(sweptElsewhere / seeds, 12.0);
+  EXPECT_GT(sumElsewhere / seeds, 16.0);
+  EXPECT_GT(sum / seeds, 11.0);
 }
 
 TEST(Repair, SplitsTheBorderEdgeAnInsertedPointWouldLieBeyond) {

@@ -173,7 +173,9 @@ struct SodtParams {
 
 /// Why the repair left a triangle below its target (see repair.h).
 enum class RepairReason : int {
-  Pinned = 0,       ///< tried as it is: its edges are features or end at fixed vertices, or no change improves it
+  /// Tried as it is: its edges are features or end at fixed vertices, or no
+  /// change improves it; or its smallest angle lies at a protected corner.
+  Pinned = 0,
   Bound = 1,        ///< tried as it is: every change that would improve it leaves the deviation or face-turn bound
   NonManifold = 2,  ///< tried as it is: a change would make the mesh non-manifold, or it lies at a border
   Budget = 3,       ///< the budget of added vertices ran out first

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "../maths/classify.h"
+#include "../maths/corners.h"
 #include "flips.h"
 #include "../maths/geometry.h"
 #include "../guards/cover.h"
@@ -331,8 +332,12 @@ class LocalRepair {
     RepairReason why = RepairReason::Rounds;
     std::array<int, 3> tri{{-1, -1, -1}};
   };
+  /// The smallest angle of the live faces outside the protected corners
+  /// (protectedCorners: where features meet at less than the target, the
+  /// measure the report gives), and how many faces are below the target;
+  /// all (when given) receives the smallest angle of every live face.
+  void score(double& minAngle, std::size_t& below, double* all = nullptr) const;
   struct Snapshot;
-  void score(double& minAngle, std::size_t& below) const;
   void save(Snapshot& s) const;
   void restore(const Snapshot& s);
   bool round(std::vector<Left>& why, bool& budgetOut);
@@ -362,6 +367,7 @@ class LocalRepair {
   bool useTide_ = false;        ///< the rounds work below a tide (else below the target)
   double tideFloor_ = 0;        ///< the next round's tide is at least this (radians)
   double tide_ = 0;             ///< the last round's tide
+  double floorAll_ = 0;         ///< the smallest angle of every face at the start
 };
 
 inline int LocalRepair::edgeFaces(int a, int b, int out[2]) const {
@@ -1370,15 +1376,21 @@ struct LocalRepair::Snapshot {
   std::vector<Left> why;
 };
 
-inline void LocalRepair::score(double& minAngle, std::size_t& below) const {
-  minAngle = kPi;
+inline void LocalRepair::score(double& minAngle, std::size_t& below, double* all) const {
+  std::vector<std::array<int, 3>> tri;
+  tri.reserve(faces_.tri.size());
   below = 0;
+  double smallest = kPi;
   for (std::size_t f = 0; f < faces_.tri.size(); ++f) {
     if (!faces_.live[f]) continue;
+    tri.push_back(faces_.tri[f]);
     const double a = faceMinAngle(int(f));
-    minAngle = std::min(minAngle, a);
+    smallest = std::min(smallest, a);
     below += a < s_.targetRad;
   }
+  if (all) *all = smallest;
+  const auto onFeature = [this](int a, int b) { return isFeature(a, b); };
+  minAngle = protectedCorners(tri, pos_, s_.featureRad, s_.targetRad, onFeature).minAngleElsewhere;
 }
 
 inline void LocalRepair::save(Snapshot& s) const {
@@ -1398,13 +1410,27 @@ inline void LocalRepair::restore(const Snapshot& s) {
 /// budget stopped the round.
 inline bool LocalRepair::round(std::vector<Left>& why, bool& budgetOut) {
   std::vector<std::pair<double, int>> bad;
-  double worst = kPi;
+  // A face whose smallest angle lies at a protected corner cannot beat
+  // it while the features stay: it is left as it is (pinned), and the
+  // tide starts from the worst other face.
+  std::vector<std::array<int, 3>> tri;
+  std::vector<int> at;
   for (std::size_t f = 0; f < faces_.tri.size(); ++f)
-    if (faces_.live[f]) worst = std::min(worst, faceMinAngle(int(f)));
+    if (faces_.live[f]) tri.push_back(faces_.tri[f]), at.push_back(int(f));
+  const auto onFeature = [this](int a, int b) { return isFeature(a, b); };
+  const CornerView view = protectedCorners(tri, pos_, s_.featureRad, s_.targetRad, onFeature);
+  const std::vector<char>& corner = view.atCorner;
+  const double worst = view.minAngleElsewhere;
   const double step = std::max(worst * kRepairTideFactor, worst + kRepairTideStepDeg * kPi / 180);
   tide_ = useTide_ ? std::min(s_.targetRad, std::max(tideFloor_, step)) : s_.targetRad;
-  for (std::size_t f = 0; f < faces_.tri.size(); ++f)
-    if (faces_.live[f] && faceMinAngle(int(f)) < tide_) bad.push_back({faceMinAngle(int(f)), int(f)});
+  why.resize(faces_.tri.size());
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    const int f = at[i];
+    if (corner[i])
+      why[std::size_t(f)] = {RepairReason::Pinned, faces_.tri[std::size_t(f)]};
+    else if (faceMinAngle(f) < tide_)
+      bad.push_back({faceMinAngle(f), f});
+  }
   std::sort(bad.begin(), bad.end());
   touched_.clear();
   bool progress = false;
@@ -1444,8 +1470,9 @@ inline bool LocalRepair::round(std::vector<Left>& why, bool& budgetOut) {
 /// target changes nothing, patience rounds in a row (0: no limit) find no
 /// better state, or the rounds or the budget run out (a round that changes
 /// nothing or stalls below a lower tide raises the next one's); best
-/// receives the best state seen (the largest smallest angle, then the
-/// fewest faces below the target) and why the reasons of its faces.
+/// receives the best state seen (the largest smallest angle outside the
+/// protected corners, then the fewest faces below the target) and why the
+/// reasons of its faces.
 /// Returns which of these ended them: Patience, Budget, Rounds (the
 /// limit), else Done.
 inline LocalRepair::Stop LocalRepair::rounds(bool tide, int maxRounds, int patience, Snapshot& best,
@@ -1461,11 +1488,13 @@ inline LocalRepair::Stop LocalRepair::rounds(bool tide, int maxRounds, int patie
   int stall = 0, sinceBest = 0;
   for (int k = 0; k < maxRounds && best.below > 0; ++k) {
     const bool progress = round(why, budgetOut);
-    double a;
+    double a, all;
     std::size_t n;
-    score(a, n);
+    score(a, n, &all);
     ++sinceBest;
-    if (a > best.minAngle || (a == best.minAngle && n < best.below)) {
+    // A state whose smallest angle anywhere (a protected corner cut into
+    // thinner faces included) fell below the start's is never kept.
+    if (all >= floorAll_ && (a > best.minAngle || (a == best.minAngle && n < best.below))) {
       save(best);
       best.minAngle = a, best.below = n;
       best.why = why;
@@ -1511,13 +1540,19 @@ inline LocalRepair::Stop LocalRepair::attempt(bool tide, Snapshot& best) {
 /// on hinge with a budget of 200%: 5.0 degrees, the budget gone in the
 /// second round; 17.9 under the tide), yet on other parts they do better
 /// (cgal_handle 7.9 degrees, 5.1 under the tide). The best round (the
-/// largest smallest angle, then the fewest faces below the target) is
-/// kept, the swept mesh included, and polished (kRepairPolishRounds), so
-/// the repair never leaves a worse mesh.
+/// largest smallest angle outside the protected corners, then the fewest
+/// faces below the target) is kept, the swept mesh included, and polished
+/// (kRepairPolishRounds), so the repair never leaves a worse mesh by the
+/// measure its report gives; no state is kept whose smallest angle
+/// anywhere is below the start's. Ranked by every face, a corner no change
+/// can open ties every state and leaves the choice to the count below the
+/// target (measured on the corpus: a median smallest angle outside the
+/// corners of 6.2 degrees, against 7.4 with the corners left out of both
+/// the ranking and the work).
 inline RepairResult LocalRepair::run() {
   double worst;
   std::size_t below;
-  score(worst, below);
+  score(worst, below, &floorAll_);
   const long long n = static_cast<long long>(below);
   Snapshot best;
   Stop stop;
