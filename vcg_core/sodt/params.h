@@ -581,8 +581,9 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& budget,
       .describe("after the sweeps, fix the triangles still below the repair angle with the fewest local "
                 "changes: collapse the short edge of a needle, flip or split the long edge of a cap or "
                 "sliver, and relax the changed neighbourhood with S-ODT (adds and removes vertices)",
-                "Feature edges (see feature angle) are never flipped or collapsed and are split along "
-                "themselves, corners and border vertices stay, the mesh stays manifold and oriented, "
+                "Feature edges (see feature angle) and border edges are never flipped, are collapsed "
+                "only along their line and are split along themselves; corners stay, border vertices "
+                "never move, the mesh stays manifold and oriented, "
                 "every change keeps the surface within the deviation bound of the input both ways, and "
                 "every face it makes or moves within the max face turn of the input face under it. Added "
                 "vertices get texture coordinates, colour and quality interpolated along the edge they "
