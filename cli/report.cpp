@@ -233,6 +233,9 @@ void printRepairSummary(const sodt::SodtParams& p, const sodt::SodtStats& st) {
     std::printf("; listed in the report)");
   }
   std::printf("\n");
+  if (st.collapsedFacesRemoved > 0)
+    std::printf("  repair         %d faces removed whose corners are not three distinct vertices (no area)\n",
+                st.collapsedFacesRemoved);
 }
 
 /// The report's list of the triangles the repair left below its target.
@@ -372,6 +375,7 @@ std::string smoothReport(const SmoothOptions& o, const MeshD& m, const SmoothRes
   j["reoriented_faces"] = st.reorientedFaces;
   j["vertices_added"] = st.verticesAdded;
   j["vertices_removed"] = st.verticesRemoved;
+  j["collapsed_faces_removed"] = st.collapsedFacesRemoved;
   j["repair_splits"] = st.repairSplits;
   j["repair_inserts"] = st.repairInserts;
   j["repair_collapses"] = st.repairCollapses;

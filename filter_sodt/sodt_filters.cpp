@@ -341,6 +341,9 @@ void logSmoothing(const SmoothingRun& run, const LogFn& log) {
                   "%d flips); %d triangles left below %g deg",
                   s.verticesAdded, s.verticesRemoved, s.repairSplits, s.repairInserts, s.repairCollapses, s.repairFlips,
                   int(s.belowTarget.size()), p.repairAngleDeg));
+  if (s.collapsedFacesRemoved > 0)
+    log(LogLevel::Info, strFormat("S-ODT: the repair removed %d faces whose corners are not three distinct vertices",
+                                  s.collapsedFacesRemoved));
   if (s.reorientedFaces > 0)
     log(LogLevel::Info, strFormat("S-ODT: turned %d faces over so that each part of the mesh has one winding",
                                   s.reorientedFaces));
@@ -399,6 +402,7 @@ Report smoothingReport(const CMeshO& m, const SmoothingRun& run) {
       {"rejected", s.rejected}, {"failed_solves", s.failedSolves}, {"unchanged", s.unchanged},
       {"skipped_visits", s.skipped}, {"flips", s.flips}, {"faces_changed", run.facesChanged},
       {"vertices_added", s.verticesAdded}, {"vertices_removed", s.verticesRemoved},
+      {"collapsed_faces_removed", s.collapsedFacesRemoved},
       {"repair_splits", s.repairSplits}, {"repair_inserts", s.repairInserts}, {"repair_collapses", s.repairCollapses},
       {"repair_flips", s.repairFlips}, {"below_repair_angle", static_cast<long long>(s.belowTarget.size())}};
   for (const auto& c : counters) r[c.first] = count(c.second);

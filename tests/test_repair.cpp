@@ -138,6 +138,44 @@ TEST(Repair, KeepsTheMeshClosedManifoldAndOrientedAndRaisesTheMinAngle) {
   EXPECT_EQ(static_cast<std::size_t>(below), st.belowTarget.size());
 }
 
+TEST(Repair, RemovesFacesWithARepeatedCornerFirstAndSmoothsTheirVertices) {
+  // Welding an STL whose triangle had two equal corners leaves a face
+  // (c, c, p): no area, but its edge c-p then counts four faces, which
+  // pins c and p. Here c is the centre of one side's fan, which only a
+  // free centre lets the repair mend.
+  sodt::MeshD clean, welded, kept;
+  slicedCube(clean);
+  slicedCube(welded);
+  int centre = -1, other = -1;
+  for (std::size_t i = 0; i < welded.vert.size(); ++i)
+    if (welded.vert[i].cP() == vcg::Point3d(0, 0, 1)) centre = int(i);
+  for (const auto& f : welded.face)
+    for (int j = 0; j < 3; ++j)
+      if (f.cV(j) - &welded.vert[0] == centre) other = int(f.cV((j + 1) % 3) - &welded.vert[0]);
+  ASSERT_GE(centre, 0);
+  ASSERT_GE(other, 0);
+  sodt_test::addFace(welded, centre, centre, other);
+  vcg::tri::Append<sodt::MeshD, sodt::MeshD>::MeshCopy(kept, welded);
+
+  const sodt::SodtStats without = sodt::SodtSmoother<sodt::MeshD>::Apply(kept, repairParams(false));
+  EXPECT_EQ(without.collapsedFacesRemoved, 0);  // without the repair the face stays, its vertices fixed
+  EXPECT_EQ(kept.fn, clean.fn + 1);
+  EXPECT_GE(without.fixedNonManifold, 2);
+
+  const sodt::SodtStats a = sodt::SodtSmoother<sodt::MeshD>::Apply(clean, repairParams(true));
+  const sodt::SodtStats b = sodt::SodtSmoother<sodt::MeshD>::Apply(welded, repairParams(true));
+  EXPECT_EQ(b.collapsedFacesRemoved, 1);
+  EXPECT_EQ(b.fixedNonManifold, 0);
+  for (const auto& f : welded.face)
+    if (!f.IsD()) EXPECT_TRUE(f.cV(0) != f.cV(1) && f.cV(1) != f.cV(2) && f.cV(2) != f.cV(0));
+  // The rest is what the mesh without that face gets.
+  EXPECT_GE(minAngleDeg(welded), 30.0);
+  EXPECT_EQ(minAngleDeg(welded), minAngleDeg(clean));
+  EXPECT_EQ(b.verticesAdded, a.verticesAdded);
+  EXPECT_EQ(b.verticesRemoved, a.verticesRemoved);
+  EXPECT_EQ(welded.fn, clean.fn);
+}
+
 TEST(Repair, FeatureEdgesStayChainsOfEdges) {
   sodt::MeshD m;
   slicedCube(m);

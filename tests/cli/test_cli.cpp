@@ -2614,6 +2614,40 @@ TEST(CliRepair, ConeBaseStaysFacingOutAndTheReportMeasuresTheReturnedMesh) {
   }
 }
 
+TEST(CliRepair, RemovesAnSTLTriangleWithTwoEqualCornersAndSaysSo) {
+  // Welding the STL's corners leaves the facet (P, P, Q) a face on two
+  // vertices; --repair removes it, without the repair it stays.
+  TempDir dir;
+  sodt::MeshD cube;
+  sodt_test::makeCube(cube, 3);
+  std::string stl = "solid t\n";
+  const auto facet = [&stl](const vcg::Point3d& a, const vcg::Point3d& b, const vcg::Point3d& c) {
+    stl += "facet normal 0 0 0\nouter loop\n";
+    for (const vcg::Point3d* p : {&a, &b, &c}) stl += "vertex " + std::to_string((*p)[0]) + " " +
+                                                      std::to_string((*p)[1]) + " " + std::to_string((*p)[2]) + "\n";
+    stl += "endloop\nendfacet\n";
+  };
+  for (const auto& f : cube.face) facet(f.cP(0), f.cP(1), f.cP(2));
+  facet(cube.face[0].cP(0), cube.face[0].cP(0), cube.face[0].cP(1));
+  stl += "endsolid t\n";
+  const std::string in = dir / "in.stl";
+  writeFile(in, stl);
+  for (const bool repair : {false, true}) {
+    SCOPED_TRACE(repair ? "--repair" : "no repair");
+    std::vector<std::string> args = {"smooth", in, dir / "out.ply", "--report", dir / "r.json"};
+    if (repair) args.push_back("--repair");
+    const RunResult r = runSodt(args, dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(jsonNumber(readFile(dir / "r.json"), "collapsed_faces_removed"), repair ? 1 : 0);
+    EXPECT_EQ(r.out.find("faces removed whose corners are not three distinct vertices") != std::string::npos, repair)
+        << r.out;
+    sodt::MeshD out;
+    sodt::loadMesh(dir / "out.ply", out);
+    EXPECT_EQ(out.fn, cube.fn + (repair ? 0 : 1));
+    EXPECT_EQ(readFile(in), stl);
+  }
+}
+
 TEST(CliOutput, AFullDiskIsReportedWithTheSystemsReasonInEveryFormat) {
   if (!isCharDevice("/dev/full")) GTEST_SKIP() << "no /dev/full";
   TempDir dir;

@@ -281,6 +281,9 @@ struct SodtStats {
   int repairSplits = 0, repairCollapses = 0, repairFlips = 0, repairInserts = 0;
   int verticesAdded = 0, verticesRemoved = 0;
   long long repairMoves = 0;
+  /// Faces the repair removed before the sweeps because their corners are
+  /// not three distinct vertices (see loadWorkingMesh).
+  int collapsedFacesRemoved = 0;
   std::vector<RemainingTriangle> belowTarget;
   /// With slideBoundary: border vertices that slide along the border (also
   /// counted in activeVertices, not in fixedBoundary), those kept fixed as
@@ -587,7 +590,8 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& budget,
                 "every change keeps the surface within the deviation bound of the input both ways, and "
                 "every face it makes or moves within the max face turn of the input face under it. Added "
                 "vertices get texture coordinates, colour and quality interpolated along the edge they "
-                "split; a mesh with per-wedge attributes is refused. The report lists the triangles left "
+                "split; a mesh with per-wedge attributes is refused. Faces whose corners are not three "
+                "distinct vertices are removed before the sweeps. The report lists the triangles left "
                 "below the target and why.");
   angle.bind("repairAngleDeg", &SodtParams::repairAngleDeg).keys("repairAngle", "repair_angle")
       .cli("--repair-angle", "DEG").dialog("Repair target angle (deg)").shownIn("degrees").range(0, 50)

@@ -71,8 +71,9 @@ struct SodtSmoother {
     checkConnectivityMayChange(m, params);
     SodtStats stats;
     RunState<MeshType> r(m, params, cb, tuning, stats);
-    r.w = loadWorkingMesh(m, params.selectedOnly);
+    r.w = loadWorkingMesh(m, params.selectedOnly, params.repair);
     stats.reorientedFaces = r.w.reorientedFaces;
+    stats.collapsedFacesRemoved = static_cast<int>(r.w.droppedFaces.size());
     const auto stages = makeStages<MeshType>(params);
     for (auto& s : stages) s->beforeClasses(r);
     setUpRun(r);

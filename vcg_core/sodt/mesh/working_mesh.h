@@ -33,6 +33,9 @@ struct WorkingMesh {
   std::vector<char> deleted, selected;
   RingTopology topo;  ///< rebuilt after edge flips
   int reorientedFaces = 0;  ///< see SodtStats::reorientedFaces
+  /// Faces of m (indices in m.face) left out of faces by dropCollapsed in
+  /// loadWorkingMesh: writeBack deletes them from m.
+  std::vector<int> droppedFaces;
 };
 
 /// Throws InvalidInput naming how many vertices of m have a NaN or infinite
@@ -53,13 +56,24 @@ void checkFiniteCoordinates(const MeshType& m) {
 /// winding would leave the vertices where it changes fixed: each component
 /// with a conflict gets one winding first (the outward one when it is
 /// closed, else its majority's; see orientCoherently), written back at the
-/// end and counted in reorientedFaces.
+/// end and counted in reorientedFaces. With dropCollapsed (a run that may
+/// change the connectivity), faces whose corners are not three distinct
+/// vertices are left out (of the selection with selectedOnly): they have
+/// no area and cover nothing, but make their edges non-manifold, which
+/// would pin the vertices around them (droppedFaces).
 /// \throw InvalidInput for a mesh outside the sizes of checkMeshSize().
 template <class MeshType>
-WorkingMesh loadWorkingMesh(const MeshType& m, bool selectedOnly) {
+WorkingMesh loadWorkingMesh(const MeshType& m, bool selectedOnly, bool dropCollapsed = false) {
   WorkingMesh w;
   const int nv = static_cast<int>(m.vert.size());
   w.faces = makeFaceList(m, selectedOnly);
+  for (std::size_t f = 0; f < w.faces.tri.size() && dropCollapsed; ++f) {
+    const std::array<int, 3>& t = w.faces.tri[f];
+    if (w.faces.live[f] && w.faces.flippable[f] && (t[0] == t[1] || t[1] == t[2] || t[2] == t[0])) {
+      w.faces.live[f] = 0;
+      w.droppedFaces.push_back(static_cast<int>(f));
+    }
+  }
   w.deleted.assign(nv, 0);
   for (int i = 0; i < nv; ++i) w.deleted[i] = m.vert[i].IsD();
   w.order = breadthFirstOrder(w.faces, w.deleted);
@@ -88,7 +102,8 @@ WorkingMesh loadWorkingMesh(const MeshType& m, bool selectedOnly) {
 }
 
 /// Writes the working copy back into m: the faces when facesChanged (and
-/// any adjacency the caller had computed, which they invalidate), the
+/// any adjacency the caller had computed, which they invalidate; the
+/// dropped faces are deleted then), the
 /// positions of the moved vertices, the bounding box, and the unit face and
 /// vertex normals when present (writeNormals).
 template <class MeshType>
@@ -96,6 +111,7 @@ void writeBack(MeshType& m, const WorkingMesh& w, const std::vector<int>& moved,
   using ScalarType = typename MeshType::ScalarType;
   using CoordType = typename MeshType::CoordType;
   if (facesChanged) {
+    for (int f : w.droppedFaces) vcg::tri::Allocator<MeshType>::DeleteFace(m, m.face[f]);
     for (std::size_t f = 0; f < w.faces.tri.size(); ++f)
       if (w.faces.live[f])
         for (int j = 0; j < 3; ++j) m.face[w.faceOrder[f]].V(j) = &m.vert[w.order[w.faces.tri[f][j]]];
