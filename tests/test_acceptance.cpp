@@ -6,6 +6,7 @@
 // folder the build found.
 #include "test_mesh.h"
 
+#include <sodt_io/corners.h>
 #include <sodt_io/io.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/prebuilt.h>
@@ -348,7 +349,7 @@ TEST(Acceptance, HingeRepairRisesWithItsBudget) {
   // hinge's coarse cylinders need more vertices than the default budget to
   // lift their slivers (`sodt smooth --algorithm feature --flips --repair
   // --repair-budget B`): measured 12.0 degrees at 100%, 18.9 at 200% and
-  // the target, 25.5, at 300% (204% more vertices; 18.6 before the
+  // the target, 25.0, at 300% (184% more vertices; 18.6 before the
   // feature lines could coarsen). At 200% more faces are below the target
   // than half the budget, so plain rounds and the tide both run and the
   // better is kept; plain rounds alone spent the budget in two rounds and
@@ -371,6 +372,26 @@ TEST(Acceptance, HingeRepairRisesWithItsBudget) {
     EXPECT_LE(s.verticesAdded, b.first / 100 * nv) << "budget " << b.first;
     last = a;
   }
+}
+
+TEST(Acceptance, BunnyClosedRepairReachesTwentyFiveDegreesOutsideItsCorners) {
+  // `sodt smooth --flips --repair`: caps on feature edges that no flip nor
+  // split could open (the hole fill's) lose their short edge last, which
+  // lifts the smallest angle outside the protected corners from 21.3 to
+  // 25.0 degrees; the corners themselves (19.5) stay.
+  REQUIRE_SHARED("bunny_closed.ply");
+  sodt::MeshD m, input;
+  sodt::loadMesh(shared("bunny_closed.ply"), m);
+  sodt::loadMesh(shared("bunny_closed.ply"), input);
+  sodt::SodtParams p;
+  p.flips = true;
+  p.repair = true;
+  const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  const sodt::ProtectedAngles c = sodt::protectedAngles(m, p.featureAngleDeg, p.repairAngleDeg);
+  EXPECT_GE(c.minAngleElsewhereDeg, 25.0);
+  EXPECT_LE(sodt::hausdorffRel(m, input), 1.5 * p.maxDeviationRel);
+  EXPECT_EQ(sodt::countInvertedFaces(m, input), 0);
+  EXPECT_EQ(m.VN(), input.VN() + s.verticesAdded - s.verticesRemoved);
 }
 
 TEST(Acceptance, SpotBadqualityRepairReachesItsTargetAngle) {

@@ -596,6 +596,26 @@ TEST(Repair, CollapsesTwoBorderVerticesAHairApartAlongTheBorder) {
   }
 }
 
+TEST(Repair, CollapsesANeedleWhoseOppositeVertexIsOnTheBorderWithThreeFaces) {
+  // Interior vertex (3, 1) of a grid moved to a hair above the border
+  // edge (2, 0)-(3, 0), 1e-4 from (3, 0): the needle (3, 0), (4, 1), apex
+  // loses its short edge only by a collapse that leaves border vertex
+  // (2, 0) with two faces. Counted as an interior vertex's (three at
+  // least), that was refused, and the needle stayed.
+  FlatGrid g(6);
+  const int apex = g.at(3, 1);
+  g.pos[apex] = Vec3(0.5 - 1e-4, 1e-6, 0);
+  const double before = g.minAngleDeg();
+  sodt::RepairSettings s;
+  s.bound = 1e-3;
+  s.maxAdded = 10;
+  const sodt::RepairResult r = g.repair(s, true);
+  EXPECT_LT(before, 0.01);
+  EXPECT_GE(r.collapses, 1);
+  EXPECT_TRUE(g.deleted[apex]);
+  EXPECT_GT(g.minAngleDeg(), 20.0);
+}
+
 TEST(Repair, TakesTheEdgesOfASliverForNoFeatureWithoutAClassification) {
   // Interior vertex v of a flat grid split in two, w 1e-4 to its right and
   // 1e-4 above the plane: the two slivers between them (v, w and the

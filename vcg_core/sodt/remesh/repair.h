@@ -212,6 +212,19 @@ class LocalRepair {
     int dummy[2];
     return edgeFaces(a, b, dummy) > 0;
   }
+  /// Whether v's faces leave its star open (more neighbours than faces):
+  /// v lies on a border.
+  bool openStar(int v) const {
+    std::vector<int> around;
+    for (int f : vf_[v])
+      for (int u : faces_.tri[f])
+        if (u != v) around.push_back(u);
+    std::sort(around.begin(), around.end());
+    return static_cast<std::size_t>(std::unique(around.begin(), around.end()) - around.begin()) > vf_[v].size();
+  }
+  /// Whether v would keep too few faces after losing one: fewer than three
+  /// inside, none on a border (its star is looked at only when small).
+  bool tooFewFacesToLoseOne(int v) const { return vf_[v].size() <= 1 || (vf_[v].size() <= 3 && !openStar(v)); }
   double faceMinAngle(int f) const {
     const auto& t = faces_.tri[f];
     return triangleMinAngle(pos_[t[0]], pos_[t[1]], pos_[t[2]]);
@@ -748,7 +761,8 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
     return Topology;
   }
   const int c = third(f1, a, b), d = border ? -1 : third(f2, a, b);
-  if (vf_[c].size() <= 3 || (!border && (vf_[d].size() <= 3 || vf_[a].size() + vf_[b].size() < 4 + 3)))
+  if (tooFewFacesToLoseOne(c) ||
+      (!border && (tooFewFacesToLoseOne(d) || vf_[a].size() + vf_[b].size() < 4 + 3)))
     return Topology;
   std::unordered_set<int> around;
   for (int f : vf_[b])
@@ -1289,6 +1303,18 @@ inline bool LocalRepair::fixFace(int f, RepairReason& why) {
   // split, it took spot_badquality from 0.132% to 0.155% of its diagonal
   // from the input at the default target, for the same smallest angle).
   if (cap && note(tryInsert(f))) return true;
+  // A cap on a feature or border edge, which no flip may take, that
+  // nothing above could open loses its short edge, last (measured on the
+  // corpus: 6 meshes up, none down; bunny_closed 21.3 -> 25.0 degrees
+  // outside its corners. On caps over any edge: 17 up, one down, but
+  // hinge fell from 18.9 to 12.9 degrees at a budget of 200%).
+  if (cap) {
+    ends(e[2], x, y);
+    if (isFeature(x, y)) {
+      ends(e[0], x, y);
+      if (note(tryCollapse(x, y)) || note(tryCollapse(y, x))) return true;
+    }
+  }
   why = worst == OverBound ? RepairReason::Bound : worst == Topology ? RepairReason::NonManifold
                                                                      : RepairReason::Pinned;
   return false;
