@@ -346,14 +346,13 @@ TEST(Acceptance, SharedMeshesStayNearTheInputBothWays) {
 }
 
 TEST(Acceptance, HingeRepairRisesWithItsBudget) {
-  // hinge's coarse cylinders need more vertices than the default budget to
-  // lift their slivers (`sodt smooth --algorithm feature --flips --repair
+  // hinge's coarse cylinders need nearly all of the default budget to lift
+  // their slivers (`sodt smooth --algorithm feature --flips --repair
   // --repair-budget B`): measured 12.0 degrees at 100%, 18.9 at 200% and
-  // the target, 25.0, at 300% (184% more vertices; 18.6 before the
-  // feature lines could coarsen). At 200% more faces are below the target
-  // than half the budget, so plain rounds and the tide both run and the
-  // better is kept; plain rounds alone spent the budget in two rounds and
-  // ended at 5.0 degrees.
+  // the target, 25.05, at 300%, the default (184% more vertices; 18.6
+  // before the feature lines could coarsen). Plain rounds and the tide
+  // both run and the better is kept; at 200% plain rounds alone spent the
+  // budget in two rounds and ended at 5.0 degrees.
   REQUIRE_SHARED("hinge.ply");
   double last = 0;
   for (const auto& b : {std::make_pair(100.0, 11.5), std::make_pair(200.0, 18.0), std::make_pair(300.0, 25.0)}) {

@@ -147,7 +147,7 @@ struct SodtParams {
   double repairAngleDeg = 25.0;
   /// The repair adds at most this many vertices, in percent of the input's
   /// vertices (those it removes are not counted).
-  double repairBudgetPct = 100.0;
+  double repairBudgetPct = 300.0;
   /// Edges whose faces' normals differ by more than this (degrees) are
   /// features: the repair never flips them, collapses them only along
   /// their line and splits them along themselves, so they stay chains of
@@ -602,8 +602,9 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& budget,
       .describe("with repair: the vertices it may add, in percent of the input's vertices",
                 "The repair works on the worst triangles first, so when the budget runs out the smallest "
                 "angle is as high as it got and the report lists what is left (0: no change at all). A CAD "
-                "export whose flat strips run between feature lines needs more: hinge (598 vertices) ends "
-                "at 12.0 degrees with 100 (75% more vertices), 18.9 with 200 and 25.5 with 300 (204% more).");
+                "export whose flat strips run between feature lines needs this much: hinge (598 vertices) "
+                "ends at 12.0 degrees with 100, 18.9 with 200 and 25.1 with 300 (184% more vertices). A "
+                "mesh the repair mends with fewer vertices does not use the rest.");
   feature.bind("featureAngleDeg", &SodtParams::featureAngleDeg).keys("featureAngle", "feature_angle")
       .cli("--feature-angle", "DEG").dialog("Feature angle (deg)").shownIn("degrees").range(0, 180)
       .describe("with repair: edges whose two faces' normals differ by more than this are features, kept as "
