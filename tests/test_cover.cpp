@@ -3,6 +3,7 @@
 // output, so the sweeps cannot cut off a tip, and the two-way distance stays
 // near the bound.
 #include <sodt/guards/cover.h>
+#include <sodt/guards/input_grid.h>
 #include <sodt_io/metrics.h>
 #include <sodt_io/mesh.h>
 #include <sodt_io/prebuilt.h>
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <set>
 
 namespace {
 
@@ -156,6 +158,44 @@ TEST(InputCover, FlipKeepsThePairsPointsCovered) {
   faces.tri = {{0, 3, 2}, {3, 1, 2}};
   flat.commitFlip(0, 1);
   EXPECT_LE(flat.largestDistance(), 1e-12);
+}
+
+TEST(InputGrid, CandidatesHoldEveryTriangleWithinTheRadiusAndNotAllOthers) {
+  // A soup of small triangles and needles in the unit cube: the candidates
+  // of a ball (the repair's cover check measures them itself) hold every
+  // triangle forEachNear finds within it, and a small ball leaves out most
+  // of the soup.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> pos;
+  sodt::FaceList faces;
+  for (int k = 0; k < 400; ++k) {
+    const Vec3 a(u(rng), u(rng), u(rng));
+    const double size = k % 4 == 0 ? 0.3 : 0.03;  // every fourth a long needle
+    const Vec3 b = a + Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * size;
+    const Vec3 c = k % 4 == 0 ? (a + b) * 0.5 + Vec3(1e-4, 0, 0) : a + Vec3(u(rng), u(rng), u(rng)) * size;
+    const int base = static_cast<int>(pos.size());
+    pos.insert(pos.end(), {a, b, c});
+    faces.tri.push_back({base, base + 1, base + 2});
+    faces.live.push_back(1);
+    faces.flippable.push_back(1);
+  }
+  const sodt::InputGrid grid(pos, faces);
+  std::size_t found = 0, candidates = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 q(u(rng), u(rng), u(rng));
+    const double r = 0.01 + 0.1 * u(rng);
+    std::set<int> near, cand;
+    ASSERT_TRUE(grid.forEachNear(q, r, [&near](int k) { near.insert(k); }));
+    ASSERT_TRUE(grid.forEachCandidate(q, r, [&cand](int k) { cand.insert(k); }));
+    for (int k : near) EXPECT_EQ(cand.count(k), 1u) << "query " << i << " misses triangle " << k;
+    found += near.size();
+    candidates += cand.size();
+  }
+  EXPECT_GT(found, 0u);
+  // A candidate is a triangle whose box meets the ball: a few more than
+  // those within it, far fewer than the soup (200 x 400).
+  EXPECT_LT(candidates, 3 * found);
 }
 
 }  // namespace

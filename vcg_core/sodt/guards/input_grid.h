@@ -131,7 +131,26 @@ class InputGrid {
       return false;
     }, maxNodes);
   }
+  /// Calls visit(k) for every input triangle k whose box is within r of q:
+  /// every triangle within r and some beyond, for a caller that measures
+  /// them itself. Same limit as forEachNear.
+  template <class Visit>
+  bool forEachCandidate(const Vec3& q, double r, Visit&& visit, long maxNodes = kMaxNodes) const {
+    const double r2 = r * r;
+    return tree_.search(q, [r2] { return r2; }, [&](int t) {
+      const auto& c = tri_[t];
+      double d2 = 0;
+      for (int i = 0; i < 3; ++i) {
+        const double lo = std::min({c[0][i], c[1][i], c[2][i]}), hi = std::max({c[0][i], c[1][i], c[2][i]});
+        const double out = q[i] < lo ? lo - q[i] : q[i] > hi ? q[i] - hi : 0.0;
+        d2 += out * out;
+      }
+      if (d2 <= r2) visit(t);
+      return false;
+    }, maxNodes);
+  }
   const std::array<Vec3, 3>& triangle(int k) const { return tri_[k]; }
+  int size() const { return static_cast<int>(tri_.size()); }
 
   /// The input face under a point: the one nearest it. Where several are
   /// nearest (up to rounding: the point lies over their common edge or

@@ -54,12 +54,17 @@ namespace sodt {
 constexpr std::size_t kRepairMaxStar = 64;
 
 /// The input triangles near a face the repair replaces are found in balls
-/// along it, each opening at most this many nodes of the input's tree
+/// along it (or in one ball around all the faces replaced, where that is
+/// smaller), each opening at most this many nodes of the input's tree
 /// (about four triangles each); beyond, the change is refused. A sliver's
 /// ball holds much of a small part: on a 788-vertex CAD part, with one
 /// ball per face, 256 nodes refused every change, 1024 none that 100000
 /// allowed.
 constexpr long kRepairInputNodes = 1024;
+/// The cover check measures each of the input's sample points near a
+/// change once when there are at most this many (sorting out the repeated
+/// ones costs more than it saves beyond).
+constexpr std::size_t kRepairSortedPoints = 512;
 /// A change at a vertex with more faces than this is refused before the
 /// input is looked up: near such an apex every ball holds all its needles,
 /// so each refusal would open kRepairInputNodes nodes (a double fan of
@@ -241,6 +246,22 @@ class LocalRepair {
   /// within kCoverLimitFactor bounds of old or of the faces around them
   /// stays that near made or those faces.
   bool keepsInputCovered(const std::vector<int>& old, const std::vector<std::array<Vec3, 3>>& made) const;
+  /// What keepsInputCovered measures of old alone, for trying several
+  /// made in place of the same faces (relax's steps): the sample points
+  /// of the input triangles near old that lie within reach of old, each
+  /// once, and the faces around old; unknown (gaveUp) when the input near
+  /// them is too large to search.
+  struct CoverProbe {
+    bool off = false, gaveUp = false;
+    double reach2 = 0;
+    std::vector<Vec3> points;
+    std::vector<std::array<Vec3, 3>> around;
+    /// Per point: 0 not yet measured, 1 within reach of around, 2 not.
+    mutable std::vector<char> nearAround;
+  };
+  CoverProbe coverProbe(const std::vector<int>& old) const;
+  std::vector<std::array<Vec3, 3>> facesAround(const std::vector<int>& old) const;
+  bool coverHolds(const CoverProbe& probe, const std::vector<std::array<Vec3, 3>>& made) const;
   /// A corner of the faces has more than kRepairMaxCoverStar faces: a
   /// change of them is refused before anything is measured.
   bool atHugeStar(const std::vector<int>& faces) const {
@@ -396,6 +417,8 @@ class LocalRepair {
   double tideFloor_ = 0;        ///< the next round's tide is at least this (radians)
   double tide_ = 0;             ///< the last round's tide
   double floorAll_ = 0;         ///< the smallest angle of every face at the start
+  mutable std::vector<unsigned> seenAt_;  ///< per input triangle, the last coverProbe that took it
+  mutable unsigned probeStamp_ = 0;
 };
 
 inline int LocalRepair::edgeFaces(int a, int b, int out[2]) const {
@@ -519,15 +542,23 @@ inline bool LocalRepair::covered(const Vec3& q, const std::vector<std::array<Vec
   return false;
 }
 
-inline bool LocalRepair::keepsInputCovered(const std::vector<int>& old,
-                                           const std::vector<std::array<Vec3, 3>>& made) const {
-  if (!input_ || !(s_.bound > 0)) return true;
-  const double reach = kCoverLimitFactor * s_.bound, reach2 = reach * reach;
-  std::vector<std::array<Vec3, 3>> before, around;
+/// The squared distance from q to the nearest of tris, or the first one
+/// found at most stop2.
+inline double nearestSquaredDistance(const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris, double stop2) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : tris) {
+    best = std::min(best, pointTriangleDistance2(q, t[0], t[1], t[2]));
+    if (best <= stop2) break;
+  }
+  return best;
+}
+
+/// The faces that share a corner with old (at a corner with a large star,
+/// only those across old's edges there), old excepted, as triangles.
+inline std::vector<std::array<Vec3, 3>> LocalRepair::facesAround(const std::vector<int>& old) const {
   std::vector<int> aroundFaces;
   for (int f : old) {
     const auto& t = faces_.tri[f];
-    before.push_back({pos_[t[0]], pos_[t[1]], pos_[t[2]]});
     for (int j = 0; j < 3; ++j) {
       const int v = t[j];
       if (vf_[v].size() <= kRepairMaxStar) {
@@ -546,15 +577,29 @@ inline bool LocalRepair::keepsInputCovered(const std::vector<int>& old,
   }
   std::sort(aroundFaces.begin(), aroundFaces.end());
   aroundFaces.erase(std::unique(aroundFaces.begin(), aroundFaces.end()), aroundFaces.end());
+  std::vector<std::array<Vec3, 3>> around;
   for (int g : aroundFaces)
     if (std::find(old.begin(), old.end(), g) == old.end()) {
       const auto& t = faces_.tri[g];
       around.push_back({pos_[t[0]], pos_[t[1]], pos_[t[2]]});
     }
-  // The input triangles within reach of each old face, found in balls
-  // along its longest edge: every point of the face lies within its
-  // height over that edge of it, so a sliver needs a row of small balls,
-  // not one as long as itself.
+  return around;
+}
+
+inline LocalRepair::CoverProbe LocalRepair::coverProbe(const std::vector<int>& old) const {
+  CoverProbe probe;
+  if (!input_ || !(s_.bound > 0)) {
+    probe.off = true;
+    return probe;
+  }
+  const double reach = kCoverLimitFactor * s_.bound, reach2 = reach * reach;
+  probe.reach2 = reach2;
+  std::vector<std::array<Vec3, 3>> before;
+  for (int f : old) {
+    const auto& t = faces_.tri[f];
+    before.push_back({pos_[t[0]], pos_[t[1]], pos_[t[2]]});
+  }
+  probe.around = facesAround(old);
   // The box of the old faces, grown by reach: no point outside it is
   // within reach of them.
   Vec3 lo = before[0][0], hi = before[0][0];
@@ -571,7 +616,28 @@ inline bool LocalRepair::keepsInputCovered(const std::vector<int>& old,
       if (std::max({t[0][i], t[1][i], t[2][i]}) < lo[i] || std::min({t[0][i], t[1][i], t[2][i]}) > hi[i]) return false;
     return true;
   };
+  // Each input triangle is taken once, at the first ball whose search
+  // meets its box; triangles beyond reach add only points that the test
+  // against before drops.
+  if (seenAt_.size() != std::size_t(input_->size())) seenAt_.assign(std::size_t(input_->size()), 0);
+  if (++probeStamp_ == 0) {
+    std::fill(seenAt_.begin(), seenAt_.end(), 0);
+    probeStamp_ = 1;
+  }
+  const unsigned stamp = probeStamp_;
   std::vector<int> near;
+  const auto take = [&](int k) {
+    if (seenAt_[std::size_t(k)] == stamp) return;
+    seenAt_[std::size_t(k)] = stamp;
+    if (meetsBox(k)) near.push_back(k);
+  };
+  // Balls along each old face's longest edge: every point of the face
+  // lies within its height over that edge of it, so a sliver needs a row
+  // of small balls, not one as long as itself. Where one ball around all
+  // of old is no larger than the row in all (a star of well-shaped faces),
+  // that ball is searched instead.
+  std::vector<std::pair<Vec3, double>> row;
+  double rowArea = 0;
   for (const auto& t : before) {
     int e = 0;
     for (int j = 1; j < 3; ++j)
@@ -582,37 +648,63 @@ inline bool LocalRepair::keepsInputCovered(const std::vector<int>& old,
     const double spacing = std::max(height + reach, len / kRepairInputBalls);
     const int balls = std::max(1, static_cast<int>(std::ceil(len / spacing)));
     for (int i = 0; i < balls; ++i) {
-      const Vec3 q = a + (b - a) * ((i + 0.5) / balls);
-      if (!input_->forEachNear(q, len / (2.0 * balls) + height + reach, [&](int k) {
-                                 if (meetsBox(k)) near.push_back(k);
-                               },
-                               kRepairInputNodes))
-        return false;
+      const double r = len / (2.0 * balls) + height + reach;
+      row.push_back({a + (b - a) * ((i + 0.5) / balls), r});
+      rowArea += r * r;
     }
   }
-  std::sort(near.begin(), near.end());
-  near.erase(std::unique(near.begin(), near.end()), near.end());
-  const auto nearest2 = [](const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris, double stop2) {
-    double best = std::numeric_limits<double>::infinity();
-    for (const auto& t : tris) {
-      best = std::min(best, pointTriangleDistance2(q, t[0], t[1], t[2]));
-      if (best <= stop2) break;
-    }
-    return best;
-  };
+  const Vec3 mid = (lo + hi) * 0.5, half = (hi - lo) * 0.5 - Vec3(reach, reach, reach);
+  const double whole = half.Norm() + reach;
+  if (!(whole * whole <= rowArea && input_->forEachCandidate(mid, whole, take, kRepairInputNodes)))
+    for (const auto& ball : row)
+      if (!input_->forEachCandidate(ball.first, ball.second, take, kRepairInputNodes)) {
+        probe.gaveUp = true;
+        return probe;
+      }
+  std::vector<Vec3>& pts = probe.points;
   for (int k : near) {
     const auto& t = input_->triangle(k);
-    const Vec3 pts[13] = {t[0], t[1], t[2], (t[0] + t[1]) * 0.5, (t[1] + t[2]) * 0.5, (t[2] + t[0]) * 0.5,
+    const Vec3 all[13] = {t[0], t[1], t[2], (t[0] + t[1]) * 0.5, (t[1] + t[2]) * 0.5, (t[2] + t[0]) * 0.5,
                           (t[0] * 3 + t[1]) * 0.25, (t[0] + t[1] * 3) * 0.25, (t[1] * 3 + t[2]) * 0.25,
                           (t[1] + t[2] * 3) * 0.25, (t[2] * 3 + t[0]) * 0.25, (t[2] + t[0] * 3) * 0.25,
                           (t[0] + t[1] + t[2]) / 3.0};
-    // Only a point the old faces held within reach can be uncovered (one
-    // the faces around held stays held): it must stay within reach of
-    // made or of those faces.
-    for (const Vec3& q : pts)
-      if (inBox(q) && nearest2(q, before, reach2) <= reach2 && nearest2(q, made, reach2) > reach2 &&
-          nearest2(q, around, reach2) > reach2)
-        return false;
+    for (const Vec3& q : all)
+      if (inBox(q)) pts.push_back(q);
+  }
+  // Triangles sharing a corner or an edge give the same points, bit for
+  // bit: each is measured once, unless they are too many to sort for less
+  // than that costs (a fan's needles).
+  if (pts.size() <= kRepairSortedPoints) {
+    std::sort(pts.begin(), pts.end());
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  }
+  // Only a point the old faces held within reach can be uncovered (one
+  // the faces around held stays held).
+  pts.erase(std::remove_if(pts.begin(), pts.end(),
+                           [&](const Vec3& q) { return nearestSquaredDistance(q, before, reach2) > reach2; }),
+            pts.end());
+  probe.nearAround.assign(pts.size(), 0);
+  return probe;
+}
+
+/// Every point of the probe stays within reach of made or of the faces
+/// around; the distance to those faces is measured once per point and
+/// kept, and only for points made leaves.
+inline bool LocalRepair::keepsInputCovered(const std::vector<int>& old,
+                                           const std::vector<std::array<Vec3, 3>>& made) const {
+  return coverHolds(coverProbe(old), made);
+}
+
+inline bool LocalRepair::coverHolds(const CoverProbe& probe, const std::vector<std::array<Vec3, 3>>& made) const {
+  if (probe.off) return true;
+  if (probe.gaveUp) return false;
+  const double reach2 = probe.reach2;
+  for (std::size_t i = 0; i < probe.points.size(); ++i) {
+    const Vec3& q = probe.points[i];
+    if (nearestSquaredDistance(q, made, reach2) <= reach2) continue;
+    char& held = probe.nearAround[i];
+    if (held == 0) held = nearestSquaredDistance(q, probe.around, reach2) <= reach2 ? 1 : 2;
+    if (held == 2) return false;
   }
   return true;
 }
@@ -1418,15 +1510,16 @@ inline bool LocalRepair::relax(int v) {
   const double limit = prepareGuard(st, n, true, cur, edge2);
   const Vec3 steps[5] = {target, st.center + (target - st.center) * 0.5, st.center + (target - st.center) * 0.25,
                          st.center + (target - st.center) * 0.125, fallback};
+  std::unique_ptr<CoverProbe> probe;  // measured once, at the first step that needs it
   for (const Vec3& y : steps) {
     if (!isFinite(y) || (y - st.center).SquaredNorm() == 0) continue;
     if (!moveAllowed(st, y, cur, edge2, true, limit)) continue;
     std::vector<std::array<Vec3, 3>> made;
     for (std::size_t k = 0; k < st.size(); ++k) made.push_back({y, st.at(k), st.at(k + 1)});
     if (input_ && s_.bound > 0 && !input_->within(y, s_.bound)) continue;
-    if (atHugeStar(vf_[v]) || !nearInput(made) || !covered(st.center, made) || !keepsTurn(made) ||
-        !keepsInputCovered(vf_[v], made))
-      continue;
+    if (atHugeStar(vf_[v]) || !nearInput(made) || !covered(st.center, made) || !keepsTurn(made)) continue;
+    if (!probe) probe.reset(new CoverProbe(coverProbe(vf_[v])));
+    if (!coverHolds(*probe, made)) continue;
     pos_[v] = y;
     ++r_.relaxMoves;
     return true;
