@@ -677,6 +677,43 @@ TEST(Repair, InsertsPointsInsideTheSliversOfAFlatStripOnThePlane) {
   for (const Vec3& p : strip.pos) EXPECT_EQ(p[2], 0.0);
 }
 
+TEST(Repair, LooseTideMendsSliversWhoseFacesLieBeyondTheBoundWithinItsSlack) {
+  // The strip's slivers lifted off their input (the strip on the plane)
+  // by lift bounds, as swept faces on a curved part lie beyond the bound
+  // at the repair's points: within the bound, no face can be replaced; the
+  // loose tide, which holds new faces to 1.25 bounds (the quarter points of
+  // their edges to 1.5), mends them while the lift is within that slack,
+  // and changes nothing beyond it.
+  const double bound = 0.002;
+  for (double lift : {1.1, 1.3}) {
+    UnevenStrip strip(8, 0);
+    const std::vector<Vec3> flat = strip.pos;
+    const sodt::InputGrid input(flat, strip.faces);
+    for (Vec3& p : strip.pos) p[2] = lift * bound;
+    const double before = strip.minAngleDeg();
+    sodt::RepairSettings s;
+    s.targetRad = 30 * sodt::kPi / 180;
+    s.maxAdded = 16;
+    s.bound = bound;
+    sodt::LocalRepair r(strip.pos, strip.faces, strip.deleted, &input, s);
+    r.setUp(strip.movable, nullptr, nullptr);
+    const sodt::RepairResult res = r.run();
+    EXPECT_LT(before, 15.0);
+    if (lift < sodt::kCoverLimitFactor) {
+      EXPECT_GE(strip.minAngleDeg(), 24.0) << "lift " << lift;
+      EXPECT_GT(res.added, 0) << "lift " << lift;
+    } else {
+      EXPECT_EQ(strip.minAngleDeg(), before) << "lift " << lift;
+      EXPECT_EQ(res.added, 0) << "lift " << lift;
+    }
+    for (std::size_t v = 0; v < strip.pos.size(); ++v) {
+      if (!strip.deleted[v]) {
+        EXPECT_LE(strip.pos[v][2], lift * bound);
+      }
+    }
+  }
+}
+
 TEST(Repair, SaysWhichTrianglesTheRoundsEndedBeforeFromThoseTriedAndLeft) {
   // More slivers below the target than the budget has vertices: the rounds
   // work under a tide, and one round is allowed (no polish after it). It

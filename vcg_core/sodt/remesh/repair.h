@@ -11,8 +11,11 @@
 // crease, or on the border) are never flipped, and collapsed only along
 // their line (a vertex between two of them into one of its neighbours
 // there, within the bound), corners never move, every change keeps the
-// surface within the deviation bound of the input both ways (input near the
-// change -> output, output -> input), and every face it makes or moves
+// surface near the input both ways at sample points (input near the change
+// -> output within kCoverLimitFactor bounds; output -> input within the
+// bound, or, in a last tide where that left faces below the target, within
+// kCoverLimitFactor and kRepairQuarterFactor bounds), and every face it
+// makes or moves
 // within the face-turn bound of the input face under it. The vertices it
 // adds get their attributes (texture coordinates, colour, quality)
 // interpolated along the edge they split or in the face they were inserted
@@ -74,6 +77,24 @@ constexpr std::size_t kRepairSortedPoints = 512;
 constexpr std::size_t kRepairMaxCoverStar = 1024;
 /// ... in at most this many balls along the face's longest edge.
 constexpr double kRepairInputBalls = 16;
+
+/// The faces a change makes must lie within the bound of the input at
+/// their centroid, edge midpoints and the points halfway from the centroid
+/// to each corner. The sweeps hold faces to the bound only at their
+/// centroids and spoke midpoints: measured at these points, their faces on
+/// a curved CAD part reach 1.1-1.18 bounds (gmsh_t13), so that no face
+/// there can be replaced. Where the rounds leave faces below the target,
+/// a last tide from their best state (the loose tide) holds the new faces
+/// to kCoverLimitFactor bounds at those points (the slack the cover gives
+/// the input's points the other way) and to this many at the quarter
+/// points of their edges. Without the quarter points, the Hausdorff
+/// distance of gmsh_lever rose from 0.146% to 0.186% of its diagonal; with
+/// them held to 1.25 bounds too, most of the gain was lost (gmsh_t13 3.1
+/// degrees instead of 15.9). Used from the start instead of in a last
+/// tide, the looser check took the median smallest angle of the corpus
+/// just as high but sent hinge from 25.1 to 18.7 degrees and two small
+/// parts from 25 to 9-12 (the rounds take other paths).
+constexpr double kRepairQuarterFactor = 1.5;
 
 /// Where more faces are below the target than the budget has vertices, the
 /// repair works on the worst triangles first: a round tries only the faces
@@ -234,10 +255,17 @@ class LocalRepair {
     const auto& t = faces_.tri[f];
     return triangleMinAngle(pos_[t[0]], pos_[t[1]], pos_[t[2]]);
   }
-  /// The sample points of the triangles (centroids, edge midpoints and the
-  /// points halfway from the centroid to each corner) lie within the bound
-  /// of the input.
+  /// The sample points of the triangles lie near the input: centroids,
+  /// edge midpoints and the points halfway from the centroid to each
+  /// corner within the bound; in the loose tide (loose_), within
+  /// kCoverLimitFactor bounds, and the edges' quarter points within
+  /// kRepairQuarterFactor bounds.
   bool nearInput(const std::vector<std::array<Vec3, 3>>& tris) const;
+  /// nearInput of the star's faces with its centre at y; rim (-1 at a
+  /// relax's first call) keeps whether the points of the rim's edges,
+  /// which do not move with the centre, are near: they are looked up once
+  /// per relax, and each point of a spoke once, not once per face.
+  bool starNearInput(const Vec3& y, const Star& st, int& rim) const;
   /// q lies within the bound of one of tris: the input point q is not cut off.
   bool covered(const Vec3& q, const std::vector<std::array<Vec3, 3>>& tris) const;
   /// Faces old becoming made keeps the input near them covered, as the
@@ -419,6 +447,7 @@ class LocalRepair {
   double floorAll_ = 0;         ///< the smallest angle of every face at the start
   mutable std::vector<unsigned> seenAt_;  ///< per input triangle, the last coverProbe that took it
   mutable unsigned probeStamp_ = 0;
+  bool loose_ = false;  ///< the loose tide's check of the new faces (kRepairQuarterFactor)
 };
 
 inline int LocalRepair::edgeFaces(int a, int b, int out[2]) const {
@@ -525,12 +554,41 @@ inline void LocalRepair::setUp(const std::vector<char>& movable, const std::vect
 
 inline bool LocalRepair::nearInput(const std::vector<std::array<Vec3, 3>>& tris) const {
   if (!input_ || !(s_.bound > 0)) return true;
+  const double inner = (loose_ ? kCoverLimitFactor : 1.0) * s_.bound, quarter = kRepairQuarterFactor * s_.bound;
   for (const auto& t : tris) {
     const Vec3 pts[7] = {(t[0] + t[1] + t[2]) / 3.0,     (t[0] + t[1]) * 0.5,          (t[1] + t[2]) * 0.5,
                          (t[2] + t[0]) * 0.5,           (t[0] * 4 + t[1] + t[2]) / 6, (t[0] + t[1] * 4 + t[2]) / 6,
                          (t[0] + t[1] + t[2] * 4) / 6};
     for (const Vec3& q : pts)
-      if (!input_->within(q, s_.bound)) return false;
+      if (!input_->within(q, inner)) return false;
+    for (int j = 0; j < 3 && loose_; ++j) {
+      const Vec3 &a = t[j], &b = t[(j + 1) % 3];
+      if (!input_->within((a * 3 + b) * 0.25, quarter) || !input_->within((a + b * 3) * 0.25, quarter)) return false;
+    }
+  }
+  return true;
+}
+
+inline bool LocalRepair::starNearInput(const Vec3& y, const Star& st, int& rim) const {
+  if (!input_ || !(s_.bound > 0)) return true;
+  const double inner = (loose_ ? kCoverLimitFactor : 1.0) * s_.bound, quarter = kRepairQuarterFactor * s_.bound;
+  const std::size_t n = st.size();
+  if (rim < 0) {
+    rim = 1;
+    for (std::size_t k = 0; k < n && rim; ++k) {
+      const Vec3 &a = st.at(k), &b = st.at(k + 1);
+      rim = input_->within((a + b) * 0.5, inner) &&
+            (!loose_ || (input_->within((a * 3 + b) * 0.25, quarter) && input_->within((a + b * 3) * 0.25, quarter)));
+    }
+  }
+  if (!rim) return false;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 &a = st.at(k), &b = st.at(k + 1);
+    const Vec3 pts[5] = {(y + a + b) / 3.0, (y + a) * 0.5, (y * 4 + a + b) / 6, (y + a * 4 + b) / 6, (y + a + b * 4) / 6};
+    for (const Vec3& q : pts)
+      if (!input_->within(q, inner)) return false;
+    if (loose_ && (!input_->within((y * 3 + a) * 0.25, quarter) || !input_->within((y + a * 3) * 0.25, quarter)))
+      return false;
   }
   return true;
 }
@@ -1511,13 +1569,14 @@ inline bool LocalRepair::relax(int v) {
   const Vec3 steps[5] = {target, st.center + (target - st.center) * 0.5, st.center + (target - st.center) * 0.25,
                          st.center + (target - st.center) * 0.125, fallback};
   std::unique_ptr<CoverProbe> probe;  // measured once, at the first step that needs it
+  int rim = -1;                        // starNearInput's
   for (const Vec3& y : steps) {
     if (!isFinite(y) || (y - st.center).SquaredNorm() == 0) continue;
     if (!moveAllowed(st, y, cur, edge2, true, limit)) continue;
     std::vector<std::array<Vec3, 3>> made;
     for (std::size_t k = 0; k < st.size(); ++k) made.push_back({y, st.at(k), st.at(k + 1)});
     if (input_ && s_.bound > 0 && !input_->within(y, s_.bound)) continue;
-    if (atHugeStar(vf_[v]) || !nearInput(made) || !covered(st.center, made) || !keepsTurn(made)) continue;
+    if (atHugeStar(vf_[v]) || !starNearInput(y, st, rim) || !covered(st.center, made) || !keepsTurn(made)) continue;
     if (!probe) probe.reset(new CoverProbe(coverProbe(vf_[v])));
     if (!coverHolds(*probe, made)) continue;
     pos_[v] = y;
@@ -1760,6 +1819,22 @@ inline RepairResult LocalRepair::run() {
     }
   } else {
     stop = attempt(true, best);
+  }
+  if (best.minAngle < s_.targetRad && input_ && s_.bound > 0) {
+    // The loose tide (kRepairQuarterFactor), from the best state with what
+    // is left of the budget; kept when it ranks above and the report's
+    // measure did not fall, and then stays on for the polish.
+    const double reported = reportedMinAngle();
+    loose_ = true;
+    Snapshot loose;
+    const Stop looseStop = attempt(true, loose);
+    if (ranksAbove(loose, best) && reportedMinAngle() >= reported) {
+      best = std::move(loose);
+      stop = looseStop;
+    } else {
+      restore(best);
+      loose_ = false;
+    }
   }
   bool budgetOut = stop == Stop::Budget;
   std::vector<Left> why = best.why;
