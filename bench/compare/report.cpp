@@ -429,7 +429,8 @@ std::string markdownReport(const std::vector<MeshReport>& reports, const Options
       << "°: edge collapses, splits and flips, none of which flips or collapses a feature edge (one whose faces' "
          "normals differ by more than "
       << formatG(d.featureAngleDeg, 3)
-      << "°), and S-ODT relaxation of the changed neighbourhood, under the same guard and deviation bound), "
+      << "°), and S-ODT relaxation of the changed neighbourhood, under the same guard and deviation bound; "
+         "where that leaves triangles below the target, a last pass allows 1.25 times the bound), "
          "the other parameters as above. Both change the connectivity and the repair also the vertex set, so "
          "they are compared with MeshLab's flipping and remeshing (section \"Local repair against "
          "remeshing\"), not with the smoothers.\n";
