@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -349,13 +350,13 @@ TEST(Acceptance, HingeRepairRisesWithItsBudget) {
   // hinge's coarse cylinders need nearly all of the default budget to lift
   // their slivers (`sodt smooth --algorithm feature --flips --repair
   // --repair-budget B`): measured 12.0 degrees at 100%, 18.9 at 200% and
-  // the target, 25.05, at 300%, the default (184% more vertices; 18.6
-  // before the feature lines could coarsen). Plain rounds and the tide
+  // the target, 30.1, at 300%, the default (254% more vertices; 25.05 with
+  // a target of 25; 18.6 before the feature lines could coarsen). Plain rounds and the tide
   // both run and the better is kept; at 200% plain rounds alone spent the
   // budget in two rounds and ended at 5.0 degrees.
   REQUIRE_SHARED("hinge.ply");
   double last = 0;
-  for (const auto& b : {std::make_pair(100.0, 11.5), std::make_pair(200.0, 18.0), std::make_pair(300.0, 25.0)}) {
+  for (const auto& b : {std::make_pair(100.0, 11.5), std::make_pair(200.0, 18.0), std::make_pair(300.0, 30.0)}) {
     sodt::MeshD m;
     sodt::loadMesh(shared("hinge.ply"), m);
     const int nv = m.VN();
@@ -405,11 +406,67 @@ TEST(Acceptance, SpotBadqualityRepairReachesItsTargetAngle) {
   sodt::SodtParams p;
   p.flips = true;
   p.repair = true;
+  p.repairAngleDeg = 25;
   const sodt::SodtStats s = sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
   EXPECT_GE(sodt::computeAngleStats(m).minDeg, p.repairAngleDeg);
   EXPECT_TRUE(s.belowTarget.empty());
   EXPECT_LE(s.verticesAdded + s.verticesRemoved, 0.02 * nv);
   EXPECT_EQ(m.VN(), nv + s.verticesAdded - s.verticesRemoved);
+}
+
+TEST(Acceptance, SpotBadqualityKeepsTheFirstStageWhereTheSecondRaisesNothing) {
+  // With the default target of 30 degrees the repair works to 25 first,
+  // then to 30. On spot_badquality the second stage leaves the smallest
+  // angle at 25.2 degrees (the bound holds it) but took the Hausdorff
+  // distance from 0.132% to 0.152% of the diagonal; it is not kept, so the
+  // result is the 25-degree repair's, bit for bit.
+  REQUIRE_SHARED("spot_badquality.ply");
+  sodt::MeshD at25, at30, input;
+  sodt::loadMesh(shared("spot_badquality.ply"), at25);
+  sodt::loadMesh(shared("spot_badquality.ply"), at30);
+  sodt::loadMesh(shared("spot_badquality.ply"), input);
+  sodt::SodtParams p;
+  p.flips = true;
+  p.repair = true;
+  ASSERT_GT(p.repairAngleDeg, 25.0);
+  const sodt::SodtStats s30 = sodt::SodtSmoother<sodt::MeshD>::Apply(at30, p);
+  p.repairAngleDeg = 25;
+  sodt::SodtSmoother<sodt::MeshD>::Apply(at25, p);
+  ASSERT_EQ(at25.VN(), at30.VN());
+  ASSERT_EQ(at25.FN(), at30.FN());
+  for (int v = 0; v < at25.VN(); ++v) EXPECT_EQ(at25.vert[v].cP(), at30.vert[v].cP()) << "vertex " << v;
+  for (int f = 0; f < at25.FN(); ++f)
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(at25.face[f].cV(j) - &at25.vert[0], at30.face[f].cV(j) - &at30.vert[0]);
+  EXPECT_LE(sodt::hausdorffRel(at30, input), 1.5 * p.maxDeviationRel);
+  // The faces between 25 and 30 degrees are listed as left below the target.
+  EXPECT_FALSE(s30.belowTarget.empty());
+}
+
+TEST(Acceptance, HingeRepairReachesThirtyDegreesWithoutFolds) {
+  // Issue 44's target for hinge (`sodt smooth --algorithm feature --flips
+  // --repair`, the default target of 30 degrees): 30.1 degrees outside the
+  // protected corners, within 1.5 times the bound both ways, no face
+  // facing away and no edge folded sharper than 150 degrees (the input has
+  // none). In one stage to 30 it ended at 11.5 degrees.
+  REQUIRE_SHARED("hinge.ply");
+  sodt::MeshD m, input;
+  sodt::loadMesh(shared("hinge.ply"), m);
+  sodt::loadMesh(shared("hinge.ply"), input);
+  sodt::SodtParams p;
+  p.algorithm = sodt::Algorithm::Feature;
+  p.flips = true;
+  p.repair = true;
+  sodt::SodtSmoother<sodt::MeshD>::Apply(m, p);
+  EXPECT_GE(sodt::protectedAngles(m, p.featureAngleDeg, p.repairAngleDeg).minAngleElsewhereDeg, 30.0);
+  EXPECT_LE(sodt::hausdorffRel(m, input), 1.5 * p.maxDeviationRel);
+  EXPECT_EQ(sodt::countInvertedFaces(m, input), 0);
+  const auto sharpest = [](const sodt::MeshD& x) {
+    double worst = 0;
+    for (const auto& e : sodt_test::dihedralAngles(x)) worst = std::max(worst, e.second);
+    return worst;
+  };
+  ASSERT_LT(sharpest(input), 150.0);
+  EXPECT_LE(sharpest(m), 150.0);
 }
 
 TEST(Acceptance, SharedMeshesEndWithNoFaceFacingAway) {

@@ -256,7 +256,7 @@ def markdown_section(results, command):
            f"S-ODT runs `{SODT_FILTER}` with its defaults (guard quality, Laplacian fallback, deviation "
            f"bound 0.1 % of the diagonal, all cores) and `iterations` = {ITERATIONS}; \"+ flips\" adds "
            "`flips=True`, \"+ flips + repair\" also `repair=True` (local repair after the sweeps where a "
-           "triangle's smallest angle is below `repair_angle`, default 25°; its V / F cell adds the vertices "
+           "triangle's smallest angle is below `repair_angle`, default 30°; its V / F cell adds the vertices "
            "added and removed, from the filter's report). PyMeshLab's filters run with their defaults, the step count set to "
            f"{ITERATIONS} where they have one (`stepsmoothnum`, `iterations` of the surface-preserving "
            "Laplacian); isotropic remeshing also runs with its target edge length set to the input's "

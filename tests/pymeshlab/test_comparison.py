@@ -10,7 +10,7 @@ import pytest
 import pymeshlab_compare as pc
 from conftest import SODT_CLI, bundled, shared
 
-REPAIR_ANGLE = 25.0  # the plugin's default `repair_angle`
+REPAIR_ANGLE = 30.0  # the plugin's default `repair_angle`
 
 MESHES = [
     ("blobs_mc.ply", "basic"),

@@ -143,8 +143,10 @@ struct SodtParams {
   /// edges and relax the changed neighbourhood. Changes the vertex set, so
   /// it is off by default.
   bool repair = false;
-  /// The smallest angle the repair aims for, in degrees.
-  double repairAngleDeg = 25.0;
+  /// The smallest angle the repair aims for, in degrees: 30, the target
+  /// finite-element meshers and minimal-angle remeshers work to (above 25,
+  /// in two stages: kRepairFirstStageDeg).
+  double repairAngleDeg = 30.0;
   /// The repair adds at most this many vertices, in percent of the input's
   /// vertices (those it removes are not counted).
   double repairBudgetPct = 300.0;
@@ -597,7 +599,9 @@ inline void repairParams(ParamSpec& repair, ParamSpec& angle, ParamSpec& budget,
                 "below the target and why.");
   angle.bind("repairAngleDeg", &SodtParams::repairAngleDeg).keys("repairAngle", "repair_angle")
       .cli("--repair-angle", "DEG").dialog("Repair target angle (deg)").shownIn("degrees").range(0, 50)
-      .describe("with repair: the smallest triangle angle the repair works towards");
+      .describe("with repair: the smallest triangle angle the repair works towards",
+                "Above 25 degrees it works in two stages: to 25, then from there to the target; the "
+                "second stage is kept only where it raised the smallest angle.");
   budget.bind("repairBudgetPct", &SodtParams::repairBudgetPct).keys("repairBudget", "repair_budget")
       .cli("--repair-budget", "PERCENT").dialog("Repair vertex budget (%)").shownIn("percent of the input's vertices")
       .range(0, 10000)

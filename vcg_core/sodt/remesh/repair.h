@@ -137,6 +137,15 @@ constexpr int kRepairPlainPatience = 6;
 /// sweeps'.
 constexpr int kRepairTidePatience = 6;
 
+/// A target above this many degrees is reached in two stages (see
+/// LocalRepair::run): first to this angle, then to the target. Measured
+/// with the default target of 30 degrees, --flips --repair: hinge ends at
+/// 30.1 degrees in two stages, at 11.5 in one (the rounds spend the budget
+/// on faces between 25 and 30 degrees before the worst ones are fixed);
+/// on the corpus, against one stage to 25, 26 meshes rose and none fell
+/// (13 instead of 3 at 30 degrees or more), for a third more repair time.
+constexpr double kRepairFirstStageDeg = 25;
+
 /// After the rounds, from their best state, the repair polishes: at most
 /// this many more rounds on every face below the target, in which a
 /// change is kept only when the smallest angle of the faces it changed
@@ -428,6 +437,16 @@ class LocalRepair {
   /// the tide after kRepairPlainPatience rounds without a better state);
   /// the best state is left in place and in best.
   Stop attempt(bool tide, Snapshot& best);
+  /// What a stage leaves for the report: each face's reason, and whether
+  /// the budget ended it.
+  struct StageEnd {
+    std::vector<Left> why;
+    bool budgetOut = false;
+  };
+  /// The repair towards s_.targetRad from the current state (see run()).
+  StageEnd stage();
+  /// Lists in r_.remaining the faces below the target and why (end).
+  void listRemaining(const StageEnd& end);
 
   std::vector<Vec3>& pos_;
   FaceList& faces_;
@@ -1793,7 +1812,8 @@ inline LocalRepair::Stop LocalRepair::attempt(bool tide, Snapshot& best) {
 /// target (measured on the corpus: a median smallest angle outside the
 /// corners of 6.2 degrees, against 7.4 with the corners left out of both
 /// the ranking and the work).
-inline RepairResult LocalRepair::run() {
+inline LocalRepair::StageEnd LocalRepair::stage() {
+  loose_ = false;
   double worst;
   std::size_t below;
   score(worst, below, &floorAll_);
@@ -1872,6 +1892,11 @@ inline RepairResult LocalRepair::run() {
     restore(start);
     why.assign(faces_.tri.size(), Left());
   }
+  return {std::move(why), budgetOut};
+}
+
+inline void LocalRepair::listRemaining(const StageEnd& end) {
+  r_.remaining.clear();
   for (std::size_t f = 0; f < faces_.tri.size(); ++f) {
     if (!faces_.live[f]) continue;
     const double a = faceMinAngle(int(f));
@@ -1879,11 +1904,41 @@ inline RepairResult LocalRepair::run() {
       const auto& t = faces_.tri[f];
       // A face changed since its last attempt (or never tried) was left by
       // the end of the rounds, or of the budget.
-      const RepairReason reason = why[f].tri == t ? why[f].why : budgetOut ? RepairReason::Budget : RepairReason::Rounds;
+      const bool tried = f < end.why.size() && end.why[f].tri == t;
+      const RepairReason reason = tried ? end.why[f].why : end.budgetOut ? RepairReason::Budget : RepairReason::Rounds;
       const Vec3 c = (pos_[t[0]] + pos_[t[1]] + pos_[t[2]]) / 3.0;
       r_.remaining.push_back({{c[0], c[1], c[2]}, a * 180 / kPi, reason});
     }
   }
+}
+
+/// A target above kRepairFirstStageDeg is worked towards in two stages:
+/// the whole repair (stage()) to kRepairFirstStageDeg, then again from its
+/// result to the target, with what is left of the budget. The second stage
+/// is kept only when it raised the smallest angle outside the protected
+/// corners (as the report measures it, at the target): fewer faces below
+/// the target at the same smallest angle are not worth the distance it
+/// spends (spot_badquality: 25.2 degrees either way, its Hausdorff
+/// distance 0.132% of the diagonal after the first stage, 0.152% after the
+/// second).
+inline RepairResult LocalRepair::run() {
+  const double target = s_.targetRad, first = kRepairFirstStageDeg * kPi / 180;
+  if (!(target > first)) {
+    listRemaining(stage());
+    return r_;
+  }
+  s_.targetRad = first;
+  StageEnd end = stage();
+  s_.targetRad = target;
+  const double reached = reportedMinAngle();
+  Snapshot staged;
+  save(staged);
+  StageEnd second = stage();
+  if (reportedMinAngle() > reached)
+    end = std::move(second);
+  else
+    restore(staged);
+  listRemaining(end);
   return r_;
 }
 
