@@ -55,6 +55,11 @@ namespace sodt {
 /// would cost O(n) per round, and such a vertex is a fan's apex whose
 /// needles no local change can lift).
 constexpr std::size_t kRepairMaxStar = 64;
+/// Passes of S-ODT relaxation over the neighbourhood of a round's changes.
+/// Most of the repair's time, but not to be cut: with 2 the corpus median
+/// fell from 13.2 to 10.8 degrees and the rounds that followed added more
+/// vertices for no less time.
+constexpr int kRepairRelaxSweeps = 4;
 
 /// The input triangles near a face the repair replaces are found in balls
 /// along it (or in one ball around all the faces replaced, where that is
@@ -1719,7 +1724,7 @@ inline bool LocalRepair::round(std::vector<Left>& why, bool& budgetOut) {
   }
   std::sort(relaxSet.begin(), relaxSet.end());
   relaxSet.erase(std::unique(relaxSet.begin(), relaxSet.end()), relaxSet.end());
-  for (int sweep = 0; sweep < 4; ++sweep)
+  for (int sweep = 0; sweep < kRepairRelaxSweeps; ++sweep)
     for (int v : relaxSet) relax(v);
   flipAround(relaxSet);
   return progress;
