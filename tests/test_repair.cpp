@@ -601,6 +601,44 @@ TEST(Repair, CollapsesTwoBorderVerticesAHairApartAlongTheBorder) {
   }
 }
 
+TEST(Repair, WeldsTwoCornersAHairApartOnlyWhereTheRunMayChangeThem) {
+  // Interior vertices (3, 2) and (3, 3) of a flat grid, both corners (not
+  // movable), moved to 1e-5 apart: the two needles between them have a
+  // smallest angle near 0.002 degrees, and neither end may go by any
+  // other change. As corners the run may change, one is welded onto the
+  // other; as vertices the run keeps (not corners: selected-only, or
+  // non-manifold), both stay and so do the needles.
+  for (const bool mayWeld : {false, true}) {
+    FlatGrid g(6);
+    const int a = g.at(3, 2), b = g.at(3, 3);
+    g.pos[a] = Vec3(0.5, 0.5 - 0.5e-5, 0);
+    g.pos[b] = Vec3(0.5, 0.5 + 0.5e-5, 0);
+    g.movable[a] = g.movable[b] = 0;
+    std::vector<char> corners(g.pos.size(), 0);
+    corners[a] = corners[b] = mayWeld;
+    EXPECT_LT(g.minAngleDeg(), 0.01);
+    sodt::RepairSettings s;
+    s.bound = 1e-3;
+    s.maxAdded = 10;
+    const sodt::InputGrid input(g.pos, g.faces);
+    sodt::LocalRepair r(g.pos, g.faces, g.deleted, &input, s);
+    r.setUp(g.movable, nullptr, nullptr, nullptr, &corners);
+    r.run();
+    if (!mayWeld) {
+      // The splits and moves beside them open the needles a little
+      // (measured: 0.25 degrees), no more.
+      EXPECT_FALSE(g.deleted[a] || g.deleted[b]);
+      EXPECT_LT(g.minAngleDeg(), 1.0);
+      continue;
+    }
+    EXPECT_TRUE(g.deleted[a] != g.deleted[b]);
+    EXPECT_GT(g.minAngleDeg(), 20.0);
+    // The one that stays has not moved.
+    const int kept = g.deleted[a] ? b : a;
+    EXPECT_EQ(g.pos[kept][1], kept == a ? 0.5 - 0.5e-5 : 0.5 + 0.5e-5);
+  }
+}
+
 TEST(Repair, CollapsesANeedleWhoseOppositeVertexIsOnTheBorderWithThreeFaces) {
   // Interior vertex (3, 1) of a grid moved to a hair above the border
   // edge (2, 0)-(3, 0), 1e-4 from (3, 0): the needle (3, 0), (4, 1), apex

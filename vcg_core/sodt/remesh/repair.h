@@ -167,6 +167,16 @@ constexpr int kRepairPolishRounds = 4;
 /// corner of the feature line.
 constexpr double kRepairCreaseCollapseTurnDeg = 30;
 
+/// Two vertices at most this times the distance bound apart may be merged
+/// whatever their roles (a weld, see LocalRepair::tryCollapse): a CAD
+/// export often has two copies of a point on a feature line a hair apart
+/// (gmsh_lever: two crease vertices 0.0025 apart, 4% of its bound, with a
+/// 0.03-degree sliver between them that no split, flip or insertion can
+/// open). Measured on the corpus (--flips --repair): at 0.05, five meshes
+/// rose by 0.4-8 degrees and one fell by 0.6; at 0.25, welds of close
+/// vertices that were no copies lowered five (occt_sh2 13.5 -> 8.1).
+constexpr double kRepairWeldFactor = 0.05;
+
 /// What the repair may do.
 struct RepairSettings {
   double targetRad = 25 * kPi / 180;   ///< smallest angle to reach
@@ -224,9 +234,12 @@ class LocalRepair {
   /// Marks the feature edges and the roles. creaseDir (may be null) adds
   /// the edges that follow a classified crease; border (may be null) the
   /// vertices not movable that may still go along the border, where they
-  /// have exactly two feature edges (its two border edges).
+  /// have exactly two feature edges (its two border edges); corners (may
+  /// be null) the vertices not movable that may still be welded onto a
+  /// neighbour (kRepairWeldFactor): the interior corners the run may change.
   void setUp(const std::vector<char>& movable, const std::vector<VertexClass>* cls,
-             const std::vector<Vec3>* creaseDir, const std::vector<char>* border = nullptr);
+             const std::vector<Vec3>* creaseDir, const std::vector<char>* border = nullptr,
+             const std::vector<char>* corners = nullptr);
 
   RepairResult run();
 
@@ -242,6 +255,22 @@ class LocalRepair {
     return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
   }
   bool isFeature(int a, int b) const { return feature_.count(key(a, b)) > 0; }
+  /// Whether v may be welded: an input vertex the run may change (movable,
+  /// or an interior corner), or one the repair added off the border.
+  bool mayWeld(int v) const {
+    if (deleted_[v]) return false;
+    return std::size_t(v) < welds_.size() ? welds_[v] != 0 : role_[v] != Role::Border;
+  }
+  /// Whether a may be welded onto b: both may be (mayWeld), b off the
+  /// border, within kRepairWeldFactor of the bound.
+  bool weldable(int a, int b) const {
+    const double reach = kRepairWeldFactor * s_.bound;
+    return reach > 0 && mayWeld(a) && mayWeld(b) && role_[b] != Role::Border &&
+           (pos_[a] - pos_[b]).SquaredNorm() <= reach * reach;
+  }
+  /// After a was welded onto b: a's feature edges to lines end at b, and
+  /// b's role follows from its feature edges.
+  void moveFeatures(int a, int b, const std::vector<int>& lines);
   int third(int f, int a, int b) const {
     for (int v : faces_.tri[f])
       if (v != a && v != b) return v;
@@ -459,6 +488,7 @@ class LocalRepair {
   const InputGrid* input_;
   RepairSettings s_;
   std::vector<Role> role_;
+  std::vector<char> welds_;  ///< per vertex of the input: whether it may be welded (mayWeld)
   std::vector<std::vector<int>> vf_;
   std::unordered_map<std::uint64_t, int> bigAt_;  ///< slot(v, f) -> position of f in vf_[v], large stars only
   std::unordered_set<std::uint64_t> feature_;
@@ -512,8 +542,11 @@ inline bool LocalRepair::interiorEdge(int a, int b, int& f1, int& f2) const {
 }
 
 inline void LocalRepair::setUp(const std::vector<char>& movable, const std::vector<VertexClass>* cls,
-                               const std::vector<Vec3>* creaseDir, const std::vector<char>* border) {
+                               const std::vector<Vec3>* creaseDir, const std::vector<char>* border,
+                               const std::vector<char>* corners) {
   const int nv = static_cast<int>(pos_.size());
+  welds_.assign(nv, 0);
+  for (int v = 0; v < nv; ++v) welds_[v] = !deleted_[v] && (movable[v] || (corners && (*corners)[v]));
   vf_.assign(nv, {});
   bigAt_.clear();
   for (std::size_t f = 0; f < faces_.tri.size(); ++f)
@@ -917,6 +950,21 @@ inline LocalRepair::Verdict LocalRepair::collapseAlongCrease(int a, int b, int& 
   return Done;
 }
 
+inline void LocalRepair::moveFeatures(int a, int b, const std::vector<int>& lines) {
+  for (int u : lines) {
+    feature_.erase(key(a, u));
+    if (u != b) feature_.insert(key(b, u));
+  }
+  std::vector<int> ends;
+  for (int f : vf_[b])
+    for (int u : faces_.tri[f])
+      if (u != b && isFeature(b, u) && std::find(ends.begin(), ends.end(), u) == ends.end()) ends.push_back(u);
+  if (ends.empty() || role_[b] == Role::Fixed) return;
+  // A crease through b that keeps two feature edges stays one; anything
+  // else (a line ending or branching at b) is a corner.
+  role_[b] = role_[b] == Role::Crease && ends.size() == 2 ? Role::Crease : Role::Fixed;
+}
+
 /// Removes a by moving it onto b (a half-edge collapse), when a is free,
 /// a-b is an interior edge whose ends share no neighbour but the two
 /// opposite vertices (the link condition: the mesh stays manifold), no
@@ -927,15 +975,22 @@ inline LocalRepair::Verdict LocalRepair::collapseAlongCrease(int a, int b, int& 
 /// stays a chain of feature edges. A border vertex goes the same way along
 /// the border, over a-b, the border edge of a single face: a CAD export's
 /// unwelded or finely cut border often has two vertices a hair apart, and
-/// only their collapse removes the needle between them.
+/// only their collapse removes the needle between them. Off the border,
+/// such a pair is welded whatever the roles (weldable, moveFeatures).
 inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
   int q = -1;  // a crease or border vertex's other neighbour on its line
   const bool border = role_[a] == Role::Border;
+  bool weld = false;  // a goes whatever its role: its feature edges move to b
   if (role_[a] == Role::Crease || border) {
     const Verdict v = collapseAlongCrease(a, b, q);
-    if (v != Done) return v;
+    if (v != Done) {
+      if (border || !weldable(a, b)) return v;
+      weld = true;
+      q = -1;
+    }
   } else if (role_[a] != Role::Free) {
-    return Feature;
+    if (!weldable(a, b)) return Feature;
+    weld = true;
   }
   int f1, f2 = -1;
   if (border) {
@@ -978,6 +1033,11 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
   if (atHugeStar(vf_[a]) || !nearInput(made) || !covered(pos_[a], made) || !keepsTurn(made) ||
       !keepsInputCovered(vf_[a], made))
     return OverBound;
+  std::vector<int> lines;  // a's other ends of feature edges, for a weld
+  if (weld)
+    for (int f : vf_[a])
+      for (int u : faces_.tri[f])
+        if (u != a && isFeature(a, u) && std::find(lines.begin(), lines.end(), u) == lines.end()) lines.push_back(u);
   for (int f : vf_[a]) {
     if (f == f1 || f == f2) continue;
     for (int& v : faces_.tri[f])
@@ -998,6 +1058,7 @@ inline LocalRepair::Verdict LocalRepair::tryCollapse(int a, int b) {
     feature_.erase(key(a, q));
     feature_.insert(key(b, q));
   }
+  if (weld) moveFeatures(a, b, lines);
   ++r_.collapses;
   ++r_.removed;
   touched_.insert(touched_.end(), {b, c});
@@ -2094,7 +2155,13 @@ void repairWorkingMesh(MeshType& m, const SodtParams& p, WorkingMesh& w, const R
   std::vector<char> border(nv0, 0);
   for (std::size_t v = 0; v < nv0; ++v)
     border[v] = w.topo.kind[v] == VertexKind::Boundary && (!p.selectedOnly || w.selected[v]);
-  repair.setUp(movable, classified ? &cls.cls : nullptr, classified ? &cls.creaseDir : nullptr, &border);
+  // Interior corners the run may change may be welded (kRepairWeldFactor).
+  std::vector<char> corners(nv0, 0);
+  if (classified)
+    for (std::size_t v = 0; v < nv0; ++v)
+      corners[v] = w.topo.kind[v] == VertexKind::Interior && cls.cls[v] == VertexClass::Corner &&
+                   (!p.selectedOnly || w.selected[v]);
+  repair.setUp(movable, classified ? &cls.cls : nullptr, classified ? &cls.creaseDir : nullptr, &border, &corners);
   const RepairResult r = repair.run();
   stats.repairSplits = r.splits;
   stats.repairCollapses = r.collapses;
